@@ -1,0 +1,111 @@
+// expr/eval.h — the one evaluator: a tape run over any Number type.
+//
+// Contract: eval<T>(tape, p) computes the tape's function with T's arithmetic, at the point (or over
+// the box, for enclosure types) p = (x, y, z). For an enclosure T, for every point q in the box p at
+// which f is defined, f(q) lies in the result, and the result's decoration is true only if f is
+// defined and continuous on the whole box. A new number type is a new instantiation, never a copy
+// of this loop. For types whose operations switch the rounding mode (Interval, and anything built
+// on it), `Fast<T>` names the variant that runs inside one hoisted RoundingScope.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "expr/tape.h"
+#include "interval/interval.h"
+#include "interval/number.h"
+
+namespace certray::expr {
+
+/// The type a tape is evaluated in for inputs of type T, and the scope that makes it valid.
+/// By default T itself with no scope; Interval runs as UpInterval inside a RoundingScope.
+template <class T>
+struct Fast {
+    using type = T;
+    struct Scope {};
+    static const T& in(const T& x) { return x; }
+    static const T& out(const T& x) { return x; }
+};
+
+template <>
+struct Fast<Interval> {
+    using type = UpInterval;
+    using Scope = RoundingScope;
+    static UpInterval in(const Interval& x) { return UpInterval(x); }
+    static Interval out(const UpInterval& x) { return Interval(x); }
+};
+
+namespace detail {
+
+/// Does nothing after each instruction (the default observer of run()).
+struct NoObserver {
+    template <class T>
+    void operator()(const Instr&, const T*) const noexcept {}
+};
+
+/// The loop itself, over registers of type T; callers hold whatever scope T needs. `obs(in, r)` is
+/// called after each instruction (pruning records min/max choices there).
+template <class T, class Observer = NoObserver>
+void run(const std::vector<Instr>& instrs, const std::array<T, 3>& p, T* r, Observer obs = {}) {
+    for (const Instr& in : instrs) {
+        switch (in.op) {
+            case Op::Const: r[in.out] = T(in.imm); break;
+            case Op::VarX: r[in.out] = p[0]; break;
+            case Op::VarY: r[in.out] = p[1]; break;
+            case Op::VarZ: r[in.out] = p[2]; break;
+            case Op::Neg: r[in.out] = -r[in.a]; break;
+            case Op::Abs: r[in.out] = abs(r[in.a]); break;
+            case Op::Square: r[in.out] = square(r[in.a]); break;
+            case Op::Sqrt: r[in.out] = sqrt(r[in.a]); break;
+            case Op::Exp: r[in.out] = exp(r[in.a]); break;
+            case Op::Log: r[in.out] = log(r[in.a]); break;
+            case Op::Sin: r[in.out] = sin(r[in.a]); break;
+            case Op::Cos: r[in.out] = cos(r[in.a]); break;
+            case Op::Pow: r[in.out] = pow(r[in.a], static_cast<unsigned>(in.b)); break;
+            case Op::Add: r[in.out] = r[in.a] + r[in.b]; break;
+            case Op::Sub: r[in.out] = r[in.a] - r[in.b]; break;
+            case Op::Mul: r[in.out] = r[in.a] * r[in.b]; break;
+            case Op::Div: r[in.out] = r[in.a] / r[in.b]; break;
+            case Op::Min: r[in.out] = min(r[in.a], r[in.b]); break;
+            case Op::Max: r[in.out] = max(r[in.a], r[in.b]); break;
+        }
+        obs(in, r);
+    }
+}
+
+}  // namespace detail
+
+/// Evaluates tapes over T, reusing its register file: no allocation once the largest tape has
+/// been seen. Not thread-safe; use one Evaluator per thread.
+template <class T>
+    requires Number<typename Fast<T>::type>
+class Evaluator {
+public:
+    using Inner = typename Fast<T>::type;
+
+    /// f(p) computed in T (for enclosures: an enclosure of f over the box p).
+    T operator()(const Tape& tape, const std::array<T, 3>& p) {
+        if (regs_.size() < tape.registers()) regs_.resize(tape.registers());
+        ++evaluations_;
+        [[maybe_unused]] typename Fast<T>::Scope scope;
+        const std::array<Inner, 3> q{Fast<T>::in(p[0]), Fast<T>::in(p[1]), Fast<T>::in(p[2])};
+        detail::run<Inner>(tape.instrs(), q, regs_.data());
+        return Fast<T>::out(regs_[tape.output()]);
+    }
+
+    /// Number of whole-tape evaluations made so far.
+    std::uint64_t evaluations() const noexcept { return evaluations_; }
+
+private:
+    std::vector<Inner> regs_;
+    std::uint64_t evaluations_ = 0;
+};
+
+/// One-shot evaluation (allocates its registers; use an Evaluator in loops).
+template <class T>
+T eval(const Tape& tape, const std::array<T, 3>& p) {
+    Evaluator<T> e;
+    return e(tape, p);
+}
+
+}  // namespace certray::expr

@@ -1,0 +1,72 @@
+// interval/number.h — the Number and Enclosure concepts every type the DAG is evaluated over meets.
+//
+// Generic code (the evaluator, Dual, Affine) calls sqrt(x), square(x), pow(x, n), min(a, b) …
+// unqualified inside namespace certray: the std overloads for double are brought in here, and
+// each number type provides its own as free functions found by argument-dependent lookup.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <concepts>
+
+namespace certray {
+
+using std::abs;
+using std::cos;
+using std::exp;
+using std::log;
+using std::sin;
+using std::sqrt;
+
+/// min for doubles, propagating NaN: a point where an operand is undefined stays undefined
+/// (std::min(x, NaN) would return x and hide it).
+inline double min(double a, double b) { return (a < b || std::isnan(a)) ? a : b; }
+/// max for doubles, propagating NaN like min.
+inline double max(double a, double b) { return (a > b || std::isnan(a)) ? a : b; }
+/// x² for doubles (one rounding, like x * x).
+inline double square(double x) { return x * x; }
+/// xⁿ for doubles by binary powering (n a non-negative integer; pow(x, 0) = 1).
+inline double pow(double x, unsigned n) {
+    double r = 1.0;
+    while (n) {
+        if (n & 1u) r *= x;
+        x *= x;
+        n >>= 1u;
+    }
+    return r;
+}
+inline double lower(double x) { return x; }
+inline double upper(double x) { return x; }
+
+/// A type the expression evaluator can run over: closed under the op set, constructible from a
+/// double constant.
+template <class T>
+concept Number = std::copyable<T> && requires(const T& a, const T& b, double c, unsigned n) {
+    T(c);
+    { a + b } -> std::convertible_to<T>;
+    { a - b } -> std::convertible_to<T>;
+    { a * b } -> std::convertible_to<T>;
+    { a / b } -> std::convertible_to<T>;
+    { -a } -> std::convertible_to<T>;
+    { abs(a) } -> std::convertible_to<T>;
+    { square(a) } -> std::convertible_to<T>;
+    { pow(a, n) } -> std::convertible_to<T>;
+    { sqrt(a) } -> std::convertible_to<T>;
+    { exp(a) } -> std::convertible_to<T>;
+    { log(a) } -> std::convertible_to<T>;
+    { sin(a) } -> std::convertible_to<T>;
+    { cos(a) } -> std::convertible_to<T>;
+    { min(a, b) } -> std::convertible_to<T>;
+    { max(a, b) } -> std::convertible_to<T>;
+};
+
+/// A Number that encloses sets of reals: it has bounds and a decoration saying the function that
+/// produced it is defined and continuous on the whole input box.
+template <class T>
+concept Enclosure = Number<T> && requires(const T& a) {
+    { lower(a) } -> std::convertible_to<double>;
+    { upper(a) } -> std::convertible_to<double>;
+    { is_defined(a) } -> std::convertible_to<bool>;
+};
+
+}  // namespace certray

@@ -1,0 +1,241 @@
+// tests/interval/interval_test.cpp — Interval: the canary, the IEEE 1788 case tables, the
+// decoration, and RapidCheck properties against the MPFR oracle at 256 bits.
+#include "interval/interval.h"
+
+#include <cfenv>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include <gtest/gtest.h>
+#include <mpfr.h>
+#include <rapidcheck/gtest.h>
+
+#include "interval/mpfr_interval.h"
+#include "tests/support/generators.h"
+#include "tests/support/mpfr_oracle.h"
+
+namespace certray {
+namespace {
+
+using testing::describe;
+using testing::encloses;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The compiler must not fold these to round-to-nearest points (the known -frounding-math trap).
+TEST(IntervalCanary, OneThirdHasPositiveWidth) {
+    volatile double one = 1.0, three = 3.0;
+    Interval r = Interval(1.0) / Interval(3.0);
+    Interval v = Interval(one) / Interval(three);
+    EXPECT_LT(r.lower(), r.upper());
+    EXPECT_LT(v.lower(), v.upper());
+    EXPECT_EQ(r.upper(), std::nextafter(r.lower(), kInf));
+    // 3·lo < 1 < 3·hi, decided exactly by MPFR.
+    mpfr_t t;
+    mpfr_init2(t, 128);
+    mpfr_set_d(t, r.lower(), MPFR_RNDN);
+    mpfr_mul_ui(t, t, 3, MPFR_RNDN);  // exact at 128 bits
+    EXPECT_LT(mpfr_cmp_ui(t, 1), 0);
+    mpfr_set_d(t, r.upper(), MPFR_RNDN);
+    mpfr_mul_ui(t, t, 3, MPFR_RNDN);
+    EXPECT_GT(mpfr_cmp_ui(t, 1), 0);
+    mpfr_clear(t);
+}
+
+TEST(IntervalCanary, PointOnePlusPointTwoHasPositiveWidth) {
+    Interval r = Interval(0.1) + Interval(0.2);
+    EXPECT_LT(r.lower(), r.upper());
+    EXPECT_TRUE(contains(r, 0.30000000000000004));  // round-to-nearest sum
+    EXPECT_TRUE(contains(r, 0.3) || r.lower() > 0.3);
+    // The exact sum of the two doubles lies inside.
+    MpfrInterval exact = MpfrInterval(0.1) + MpfrInterval(0.2);
+    EXPECT_TRUE(encloses(r.lower(), r.upper(), exact)) << describe(exact);
+}
+
+TEST(IntervalCanary, UpIntervalInsideScopeMatchesInterval) {
+    const int before = std::fegetround();
+    Interval safe = Interval(1.0) / Interval(3.0);
+    {
+        RoundingScope scope;
+        UpInterval fast = UpInterval(1.0) / UpInterval(3.0);
+        EXPECT_EQ(fast.lower(), safe.lower());
+        EXPECT_EQ(fast.upper(), safe.upper());
+        UpInterval e = exp(UpInterval(1.0));
+        EXPECT_LT(e.lower(), e.upper());
+    }
+    EXPECT_EQ(std::fegetround(), before);
+}
+
+TEST(IntervalCases, DivisionIsSetBased) {
+    auto check = [](Interval a, Interval b, double lo, double hi) {
+        Interval r = a / b;
+        EXPECT_EQ(r.lower(), lo) << "[" << a.lower() << "," << a.upper() << "]/[" << b.lower()
+                                 << "," << b.upper() << "]";
+        EXPECT_EQ(r.upper(), hi);
+        EXPECT_FALSE(r.defined);
+    };
+    check(Interval(1, 2), Interval(0, 1), 1, kInf);
+    check(Interval(-30, 0), Interval(-3, 0), 0, kInf);
+    check(Interval(-2, -1), Interval(0, 4), -kInf, -0.25);
+    check(Interval(-2, 1), Interval(0, 4), -kInf, kInf);
+    check(Interval(1, 2), Interval(-1, 1), -kInf, kInf);
+    check(Interval(0, 0), Interval(-1, 1), 0, 0);
+    EXPECT_TRUE((Interval(1, 2) / Interval(0, 0)).is_empty());
+    Interval ok = Interval(1, 2) / Interval(4, 8);
+    EXPECT_EQ(ok.lower(), 0.125);
+    EXPECT_EQ(ok.upper(), 0.5);
+    EXPECT_TRUE(ok.defined);
+}
+
+TEST(IntervalCases, DomainsIntersect) {
+    Interval s = sqrt(Interval(-5, 25));
+    EXPECT_EQ(s.lower(), 0);
+    EXPECT_EQ(s.upper(), 5);
+    EXPECT_FALSE(s.defined);
+    EXPECT_TRUE(sqrt(Interval(4, 9)).defined);
+    EXPECT_TRUE(sqrt(Interval(-2, -1)).is_empty());
+    Interval l = log(Interval(0, 1));
+    EXPECT_EQ(l.lower(), -kInf);
+    EXPECT_EQ(l.upper(), 0);
+    EXPECT_FALSE(l.defined);
+    EXPECT_TRUE(log(Interval(-3, 0)).is_empty());
+    EXPECT_TRUE(log(Interval(0.5, 2)).defined);
+}
+
+TEST(IntervalCases, ExactValues) {
+    EXPECT_EQ(exp(Interval(0.0)).lower(), 1.0);
+    EXPECT_EQ(exp(Interval(0.0)).upper(), 1.0);
+    EXPECT_EQ(log(Interval(1.0)).lower(), 0.0);
+    EXPECT_EQ(log(Interval(1.0)).upper(), 0.0);
+    Interval c = cos(Interval(0.0, 7.0));
+    EXPECT_EQ(c.lower(), -1.0);
+    EXPECT_EQ(c.upper(), 1.0);
+    Interval sq = square(Interval(-3, 2));
+    EXPECT_EQ(sq.lower(), 0);
+    EXPECT_EQ(sq.upper(), 9);
+    Interval p = pow(Interval(-2, 1), 3);
+    EXPECT_EQ(p.lower(), -8);
+    EXPECT_EQ(p.upper(), 1);
+    EXPECT_EQ(pow(Interval(-2, 1), 0).lower(), 1);
+    EXPECT_EQ(pow(Interval(0, 0), 0).upper(), 1);
+    Interval a = abs(Interval(-3, 2));
+    EXPECT_EQ(a.lower(), 0);
+    EXPECT_EQ(a.upper(), 3);
+    Interval mn = min(Interval(0, 5), Interval(1, 2));
+    EXPECT_EQ(mn.lower(), 0);
+    EXPECT_EQ(mn.upper(), 2);
+    Interval z = Interval(0, 0) * Interval::entire();
+    EXPECT_EQ(z.lower(), 0);
+    EXPECT_EQ(z.upper(), 0);
+}
+
+TEST(IntervalCases, EmptyAndUnbounded) {
+    Interval e = Interval::empty();
+    EXPECT_TRUE(e.is_empty());
+    EXPECT_FALSE(e.defined);
+    EXPECT_TRUE((e + Interval(1)).is_empty());
+    EXPECT_TRUE(sin(e).is_empty());
+    EXPECT_TRUE(Interval(2, 1).is_empty());
+    EXPECT_TRUE(Interval(std::nan("")).is_empty());
+    Interval w = Interval::entire();
+    EXPECT_TRUE((w + w).lower() == -kInf && (w + w).upper() == kInf);
+    EXPECT_TRUE((w - w).lower() == -kInf && (w - w).upper() == kInf);
+    Interval s = sin(Interval(1, kInf));
+    EXPECT_EQ(s.lower(), -1);
+    EXPECT_EQ(s.upper(), 1);
+    Interval ex = exp(Interval(-kInf, 0));
+    EXPECT_EQ(ex.lower(), 0);
+    EXPECT_EQ(ex.upper(), 1);
+    Interval big = exp(Interval(710, 720));
+    EXPECT_EQ(big.upper(), kInf);
+    EXPECT_GT(big.lower(), 1e308);
+}
+
+TEST(IntervalCases, Comparisons) {
+    Interval a(1, 2), b(3, 4), c(2, 3);
+    EXPECT_TRUE(certainly_lt(a, b));
+    EXPECT_FALSE(certainly_lt(a, c));
+    EXPECT_TRUE(certainly_le(a, c));
+    EXPECT_TRUE(possibly_lt(c, a) == false);
+    EXPECT_TRUE(possibly_le(c, a));
+    EXPECT_TRUE(possibly_gt(c, a));
+    EXPECT_TRUE(possibly_zero(Interval(-1, 1)));
+    EXPECT_FALSE(possibly_zero(Interval(1e-300, 1)));
+}
+
+// ---- properties: the interval result contains the 256-bit MPFR result at points of the box -----
+
+template <class T>
+T one(const T&) {
+    return T(1.0);
+}
+
+using testing::gen_bounds;
+using testing::gen_point_in;
+
+template <class IntervalOp, class MpfrOp>
+void check_unary(IntervalOp iop, MpfrOp mop) {
+    const auto [lo, hi] = *gen_bounds();
+    const double p = *gen_point_in(lo, hi);
+    const Interval r = iop(Interval(lo, hi));
+    const MpfrInterval exact = mop(MpfrInterval(p));
+    RC_ASSERT(encloses(r.lower(), r.upper(), exact));
+    // The decoration never claims definedness where the function is undefined at a point.
+    if (r.defined) RC_ASSERT(!exact.is_empty());
+    // The fast variant gives the same bounds.
+    RoundingScope scope;
+    const UpInterval f = iop(UpInterval(lo, hi));
+    RC_ASSERT(f.is_empty() == r.is_empty());
+    if (!r.is_empty()) RC_ASSERT(f.lower() == r.lower() && f.upper() == r.upper());
+}
+
+template <class IntervalOp, class MpfrOp>
+void check_binary(IntervalOp iop, MpfrOp mop) {
+    const auto [alo, ahi] = *gen_bounds();
+    const auto [blo, bhi] = *gen_bounds();
+    const double p = *gen_point_in(alo, ahi);
+    const double q = *gen_point_in(blo, bhi);
+    const Interval r = iop(Interval(alo, ahi), Interval(blo, bhi));
+    const MpfrInterval exact = mop(MpfrInterval(p), MpfrInterval(q));
+    RC_ASSERT(encloses(r.lower(), r.upper(), exact));
+    if (r.defined) RC_ASSERT(!exact.is_empty());
+    RoundingScope scope;
+    const UpInterval f = iop(UpInterval(alo, ahi), UpInterval(blo, bhi));
+    RC_ASSERT(f.is_empty() == r.is_empty());
+    if (!r.is_empty()) RC_ASSERT(f.lower() == r.lower() && f.upper() == r.upper());
+}
+
+#define CERTRAY_UNARY_PROP(name, expr)                                                  \
+    RC_GTEST_PROP(IntervalProperty, name, ()) {                                         \
+        check_unary([](auto x) { return expr; }, [](const MpfrInterval& x) { return expr; }); \
+    }
+#define CERTRAY_BINARY_PROP(name, expr)                                                      \
+    RC_GTEST_PROP(IntervalProperty, name, ()) {                                              \
+        check_binary([](auto x, auto y) { return expr; },                                    \
+                     [](const MpfrInterval& x, const MpfrInterval& y) { return expr; });     \
+    }
+
+CERTRAY_UNARY_PROP(Neg, -x)
+CERTRAY_UNARY_PROP(Abs, abs(x))
+CERTRAY_UNARY_PROP(Square, square(x))
+CERTRAY_UNARY_PROP(Pow3, pow(x, 3u))
+CERTRAY_UNARY_PROP(Pow4, pow(x, 4u))
+CERTRAY_UNARY_PROP(Pow7, pow(x, 7u))
+CERTRAY_UNARY_PROP(Sqrt, sqrt(x))
+CERTRAY_UNARY_PROP(Exp, exp(x))
+CERTRAY_UNARY_PROP(Log, log(x))
+CERTRAY_UNARY_PROP(Sin, sin(x))
+CERTRAY_UNARY_PROP(Cos, cos(x))
+CERTRAY_BINARY_PROP(Add, x + y)
+CERTRAY_BINARY_PROP(Sub, x - y)
+CERTRAY_BINARY_PROP(Mul, x * y)
+CERTRAY_BINARY_PROP(Div, x / y)
+CERTRAY_BINARY_PROP(Min, min(x, y))
+CERTRAY_BINARY_PROP(Max, max(x, y))
+
+// Composite: the decoration of a whole expression, and containment through several roundings.
+CERTRAY_BINARY_PROP(Composite, sqrt(square(x) + square(y)) - exp(sin(x) * cos(y)) / (abs(y) + one(y)))
+
+}  // namespace
+}  // namespace certray

@@ -1,0 +1,49 @@
+// The MPFR oracle for tests: see mpfr_oracle.h.
+#include "tests/support/mpfr_oracle.h"
+
+#include <cmath>
+#include <vector>
+
+namespace certray::testing {
+
+bool encloses(double lo, double hi, const MpfrInterval& exact) {
+    if (exact.is_empty()) {
+        return true;
+    }
+    if (std::isnan(lo) || std::isnan(hi)) {
+        return false;
+    }
+    // mpfr_cmp_d handles infinite operands exactly (−inf ≤ anything, +inf ≥ anything).
+    return mpfr_cmp_d(exact.lo(), lo) >= 0 && mpfr_cmp_d(exact.hi(), hi) <= 0;
+}
+
+namespace {
+
+std::string print_bound(mpfr_srcptr v, bool round_up) {
+    const char* format = round_up ? "%.20RUg" : "%.20RDg";
+    const int n = mpfr_snprintf(nullptr, 0, format, v);
+    if (n < 0) {
+        return "<unprintable>";
+    }
+    std::vector<char> buffer(static_cast<std::size_t>(n) + 1);
+    mpfr_snprintf(buffer.data(), buffer.size(), format, v);
+    return std::string(buffer.data(), static_cast<std::size_t>(n));
+}
+
+}  // namespace
+
+std::string describe(const MpfrInterval& x) {
+    // Built by appends: GCC 12 warns (-Wrestrict, a false positive) on "literal" + std::string&&.
+    std::string out;
+    if (x.is_empty()) {
+        out.append("[empty] (prec ").append(std::to_string(x.precision())).append(")");
+        return out;
+    }
+    out.append("[").append(print_bound(x.lo(), false)).append(", ");
+    out.append(print_bound(x.hi(), true)).append("] (prec ");
+    out.append(std::to_string(x.precision()));
+    out.append(x.defined ? ", defined)" : ", undefined)");
+    return out;
+}
+
+}  // namespace certray::testing

@@ -1,0 +1,23 @@
+// The MPFR oracle for tests: exact comparisons between double enclosures and MPFR intervals.
+//
+// An MpfrInterval computed at high precision is the reference; a double interval [lo, hi] is a
+// correct enclosure of it when every real of the reference lies in [lo, hi]. All comparisons are
+// exact (mpfr_cmp_d), never through a rounded conversion.
+#pragma once
+
+#include <string>
+
+#include "interval/mpfr_interval.h"
+
+namespace certray::testing {
+
+/// True iff [exact.lo, exact.hi] ⊆ [lo, hi], compared exactly. An empty `exact` is enclosed by
+/// anything (even lo > hi); lo = −inf and hi = +inf are accepted; NaN bounds enclose nothing
+/// nonempty.
+bool encloses(double lo, double hi, const MpfrInterval& exact);
+
+/// "[lo, hi] (prec P, defined|undefined)" with both bounds printed with 20 significant digits,
+/// the lower rounded down and the upper rounded up; "[empty] (prec P)" for the empty set.
+std::string describe(const MpfrInterval& x);
+
+}  // namespace certray::testing

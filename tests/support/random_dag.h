@@ -1,0 +1,78 @@
+// tests/support/random_dag.h — RapidCheck generator of random expression DAGs.
+//
+// Every op appears; operands are drawn from all earlier nodes, so subexpressions are shared;
+// constants include extreme magnitudes; the depth stays at most kMaxDepth.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include <rapidcheck.h>
+
+#include "expr/graph.h"
+#include "expr/op.h"
+#include "expr/printer.h"
+
+namespace certray::expr {
+
+/// How RapidCheck shows a failing graph: the .expr text.
+inline void showValue(const Graph& g, std::ostream& os) { os << print_expr(g); }
+
+}  // namespace certray::expr
+
+namespace certray::testing {
+
+inline constexpr int kMaxDepth = 12;
+
+/// A random DAG with an output; `ops` is the number of non-leaf nodes requested.
+inline rc::Gen<expr::Graph> gen_dag(int max_ops = 24) {
+    return rc::gen::exec([max_ops] {
+        using expr::Op;
+        expr::Graph g;
+        std::vector<expr::NodeId> nodes;
+        std::vector<int> depth;
+        auto add = [&](expr::NodeId id, int d) {
+            nodes.push_back(id);
+            depth.push_back(d);
+        };
+        for (int axis = 0; axis < 3; ++axis) add(g.var(axis), 0);
+        const int constants = *rc::gen::inRange(1, 4);
+        for (int i = 0; i < constants; ++i) {
+            const double c = *rc::gen::oneOf(
+                rc::gen::element(0.5, 1.0, 2.0, -3.0, 0.1, 1e-300, 1e300, -7.25),
+                rc::gen::map(rc::gen::inRange(-1000, 1000), [](int k) { return k / 8.0; }));
+            add(g.constant(c), 0);
+        }
+        const int ops = *rc::gen::inRange(1, max_ops);
+        static const std::vector<Op> kUnary = {Op::Neg, Op::Abs, Op::Square, Op::Sqrt, Op::Exp,
+                                        Op::Log, Op::Sin, Op::Cos, Op::Pow};
+        static const std::vector<Op> kBinary = {Op::Add, Op::Sub, Op::Mul, Op::Div, Op::Min, Op::Max};
+        for (int i = 0; i < ops; ++i) {
+            // Prefer recent nodes so the output depends on most of the graph.
+            auto pick = [&] {
+                const int n = static_cast<int>(nodes.size());
+                const int lo = *rc::gen::element(0, std::max(0, n - 4));
+                return *rc::gen::inRange(lo, n);
+            };
+            const int a = pick();
+            if (*rc::gen::inRange(0, 3) == 0) {
+                const Op op = *rc::gen::elementOf(kUnary);
+                if (depth[a] + 1 > kMaxDepth) continue;
+                const expr::NodeId id = op == Op::Pow
+                                            ? g.pow(nodes[a], *rc::gen::inRange(0u, 6u))
+                                            : g.unary(op, nodes[a]);
+                add(id, depth[a] + 1);
+            } else {
+                const int b = pick();
+                const int d = std::max(depth[a], depth[b]) + 1;
+                if (d > kMaxDepth) continue;
+                add(g.binary(*rc::gen::elementOf(kBinary), nodes[a], nodes[b]), d);
+            }
+        }
+        g.set_output(nodes.back());
+        return g;
+    });
+}
+
+}  // namespace certray::testing
