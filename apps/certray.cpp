@@ -1,11 +1,10 @@
 // apps/certray.cpp — the certray command line: parses arguments and calls the library.
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
 #include <iostream>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 #include "apps/inspect.h"
 #include "expr/input_error.h"
@@ -21,8 +20,8 @@ int main(int argc, char** argv) {
         "Report on scenes (.expr or .vm): tape size, interval enclosure and Lipschitz bound over "
         "the bounds, evaluation speed, and how far interval pruning shortens the tape per level");
     cmd_inspect->add_option("scenes", scenes, "Scene files (.expr or .vm)")->required();
-    cmd_inspect->add_option("--bounds", inspect.bounds, "The cube [lo, hi]^3 to inspect over")
-        ->expected(2);
+    cmd_inspect->add_option("--bounds", inspect.bounds,
+                            "The cube [lo, hi]^3 to inspect over (two numbers)");
     cmd_inspect->add_option("--levels", inspect.levels, "Subdivision levels of the pruning table")
         ->check(CLI::Range(0, 8));
 

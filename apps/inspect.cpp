@@ -35,8 +35,8 @@ void inspect_scene(const std::string& path, const InspectOptions& options, std::
 
     out << path << "\n";
     out << "  graph nodes " << graph.size() << ", tape length " << tape.size() << ", registers "
-        << tape.registers() << ", " << (is3d ? "3D" : "2D") << " over [" << lo << ", " << hi
-        << "]^" << (is3d ? 3 : 2) << "\n";
+        << tape.registers() << ", " << (is3d ? "3D" : "2D") << " over [" << lo << ", " << hi << "]^"
+        << (is3d ? 3 : 2) << "\n";
 
     const Interval f = expr::eval(tape, box);
     out << fmt("  f over the bounds: [%.6g, %.6g]\n", f.lower(), f.upper());
@@ -59,13 +59,13 @@ void inspect_scene(const std::string& path, const InspectOptions& options, std::
         for (const auto& q : pts) {
             const double w = (hi - lo) / 64;
             sink = sink + ei(tape, {Interval(q[0], q[0] + w), Interval(q[1], q[1] + w),
-                              Interval(q[2], q[2] + w)}).lower();
+                                    Interval(q[2], q[2] + w)})
+                              .lower();
         }
         auto t2 = std::chrono::steady_clock::now();
         const double nd = std::chrono::duration<double, std::nano>(t1 - t0).count() / kPoints;
         const double ni = std::chrono::duration<double, std::nano>(t2 - t1).count() / kPoints;
-        out << fmt("  one evaluation: double %.0f ns, interval %.0f ns (%.1fx)\n", nd, ni,
-                   ni / nd);
+        out << fmt("  one evaluation: double %.0f ns, interval %.0f ns (%.1fx)\n", nd, ni, ni / nd);
     }
 
     // Pruning per level: cells where f is proven positive (empty), negative (filled), or

@@ -1,4 +1,5 @@
-// bench/interval_bench.cpp — cost of each number-type operation relative to double (Google Benchmark).
+// bench/interval_bench.cpp — cost of each number-type operation relative to double (Google
+// Benchmark).
 //
 // Two shapes per operation (+, ×, ÷, sqrt, square, exp, sin, min):
 // - chain: a dependent chain of 256 steps y = op(y, x) (latency: what a tape evaluation of one
@@ -33,16 +34,21 @@ namespace {
 
 constexpr int kLength = 256;
 
-template <class T> struct IsDual : std::false_type {};
-template <class T> struct IsAffine : std::false_type {};
+template <class T>
+struct IsDual : std::false_type {};
+template <class T>
+struct IsAffine : std::false_type {};
 #ifdef CERTRAY_BENCH_DUAL
-template <class S, int N> struct IsDual<Dual<S, N>> : std::true_type {};
+template <class S, int N>
+struct IsDual<Dual<S, N>> : std::true_type {};
 #endif
 #ifdef CERTRAY_BENCH_AFFINE
-template <int N> struct IsAffine<Affine<N>> : std::true_type {};
+template <int N>
+struct IsAffine<Affine<N>> : std::true_type {};
 #endif
 
-// ---- how to make a value of each type ------------------------------------------------------------
+// ---- how to make a value of each type
+// ------------------------------------------------------------
 
 /// A narrow, non-degenerate enclosure of v (an input box); the point v for double.
 template <class T>
@@ -65,62 +71,111 @@ T constant(double c) {
     return T(c);
 }
 
-// ---- kernels -------------------------------------------------------------------------------------
-// Each kernel: a chain step y ← step(y, x, c) that stays bounded for 256 steps from y0, and an
+// ---- kernels
+// ------------------------------------------------------------------------------------- Each
+// kernel: a chain step y ← step(y, x, c) that stays bounded for 256 steps from y0, and an
 // element-wise op(a, b) with inputs spread over [a_lo, a_hi] × [b_lo, b_hi].
 
 struct Add {
     static constexpr const char* kName = "add";
     static constexpr double y0 = 1.0, x = 1e-3, c = 0.0, a_lo = -4, a_hi = 4, b_lo = -4, b_hi = 4;
-    template <class T> static T step(const T& y, const T& xx, const T&) { return y + xx; }
-    template <class T> static T elem(const T& a, const T& b) { return a + b; }
+    template <class T>
+    static T step(const T& y, const T& xx, const T&) {
+        return y + xx;
+    }
+    template <class T>
+    static T elem(const T& a, const T& b) {
+        return a + b;
+    }
 };
 /// The chain is y·x + c (contracting to 2), so a step costs one product and one sum.
 struct Mul {
     static constexpr const char* kName = "mul";
     static constexpr double y0 = 1.0, x = 0.5, c = 1.0, a_lo = -4, a_hi = 4, b_lo = -4, b_hi = 4;
-    template <class T> static T step(const T& y, const T& xx, const T& cc) { return y * xx + cc; }
-    template <class T> static T elem(const T& a, const T& b) { return a * b; }
+    template <class T>
+    static T step(const T& y, const T& xx, const T& cc) {
+        return y * xx + cc;
+    }
+    template <class T>
+    static T elem(const T& a, const T& b) {
+        return a * b;
+    }
 };
 struct Div {
     static constexpr const char* kName = "div";
     static constexpr double y0 = 1.5, x = 2.0, c = 0.0, a_lo = -4, a_hi = 4, b_lo = 0.5, b_hi = 4;
-    template <class T> static T step(const T& y, const T& xx, const T&) { return xx / y; }
-    template <class T> static T elem(const T& a, const T& b) { return a / b; }
+    template <class T>
+    static T step(const T& y, const T& xx, const T&) {
+        return xx / y;
+    }
+    template <class T>
+    static T elem(const T& a, const T& b) {
+        return a / b;
+    }
 };
 struct Sqrt {
     static constexpr const char* kName = "sqrt";
     static constexpr double y0 = 3.0, x = 0.0, c = 0.0, a_lo = 0.1, a_hi = 100, b_lo = 0, b_hi = 0;
-    template <class T> static T step(const T& y, const T&, const T&) { return sqrt(y); }
-    template <class T> static T elem(const T& a, const T&) { return sqrt(a); }
+    template <class T>
+    static T step(const T& y, const T&, const T&) {
+        return sqrt(y);
+    }
+    template <class T>
+    static T elem(const T& a, const T&) {
+        return sqrt(a);
+    }
 };
 /// The chain y² stays at [1, 1] from y0 = 1 (no overflow, no subnormals).
 struct Square {
     static constexpr const char* kName = "square";
     static constexpr double y0 = 1.0, x = 0.0, c = 0.0, a_lo = -4, a_hi = 4, b_lo = 0, b_hi = 0;
-    template <class T> static T step(const T& y, const T&, const T&) { return square(y); }
-    template <class T> static T elem(const T& a, const T&) { return square(a); }
+    template <class T>
+    static T step(const T& y, const T&, const T&) {
+        return square(y);
+    }
+    template <class T>
+    static T elem(const T& a, const T&) {
+        return square(a);
+    }
 };
 /// The chain exp(−y) contracts to 0.567 (negation is exact and nearly free for every type).
 struct Exp {
     static constexpr const char* kName = "exp";
     static constexpr double y0 = 0.5, x = 0.0, c = 0.0, a_lo = -4, a_hi = 4, b_lo = 0, b_hi = 0;
-    template <class T> static T step(const T& y, const T&, const T&) { return exp(-y); }
-    template <class T> static T elem(const T& a, const T&) { return exp(a); }
+    template <class T>
+    static T step(const T& y, const T&, const T&) {
+        return exp(-y);
+    }
+    template <class T>
+    static T elem(const T& a, const T&) {
+        return exp(a);
+    }
 };
 /// The chain sin(y) decays slowly from 1 (to about 0.1 after 256 steps).
 struct Sin {
     static constexpr const char* kName = "sin";
     static constexpr double y0 = 1.0, x = 0.0, c = 0.0, a_lo = -3, a_hi = 3, b_lo = 0, b_hi = 0;
-    template <class T> static T step(const T& y, const T&, const T&) { return sin(y); }
-    template <class T> static T elem(const T& a, const T&) { return sin(a); }
+    template <class T>
+    static T step(const T& y, const T&, const T&) {
+        return sin(y);
+    }
+    template <class T>
+    static T elem(const T& a, const T&) {
+        return sin(a);
+    }
 };
 /// The chain min(y, x) with x from memory (x > y0, so the comparison always keeps y).
 struct Min {
     static constexpr const char* kName = "min";
     static constexpr double y0 = 1.0, x = 2.0, c = 0.0, a_lo = -4, a_hi = 4, b_lo = -4, b_hi = 4;
-    template <class T> static T step(const T& y, const T& xx, const T&) { return min(y, xx); }
-    template <class T> static T elem(const T& a, const T& b) { return min(a, b); }
+    template <class T>
+    static T step(const T& y, const T& xx, const T&) {
+        return min(y, xx);
+    }
+    template <class T>
+    static T elem(const T& a, const T& b) {
+        return min(a, b);
+    }
 };
 
 /// Runs `body` inside one RoundingScope when T needs upward mode, else directly.
@@ -177,7 +232,8 @@ void bm_array(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations() * kLength);
 }
 
-// ---- registration and the ratio table ------------------------------------------------------------
+// ---- registration and the ratio table
+// ------------------------------------------------------------
 
 std::vector<std::string> g_types;    // in registration order, double first
 std::vector<std::string> g_kernels;  // "chain/add", "array/add", ...
@@ -212,7 +268,7 @@ std::pair<std::string, std::string> split_name(const std::string& name) {
 /// The console reporter, plus: per run the counter x_double (time / time of the same kernel on
 /// double, which runs first), and every time kept for the final table.
 class RatioReporter : public benchmark::ConsoleReporter {
-public:
+  public:
     std::map<std::string, std::map<std::string, double>> ns;  // kernel → type → ns per step
 
     void ReportRuns(const std::vector<Run>& runs) override {
@@ -233,7 +289,8 @@ public:
     }
 
     void print_table() const {
-        std::printf("\nRatio to double (CPU time per step or element, same process):\n%-14s", "kernel");
+        std::printf("\nRatio to double (CPU time per step or element, same process):\n%-14s",
+                    "kernel");
         for (const auto& type : g_types) std::printf(" %16s", type.c_str());
         std::printf("   (double CPU ns)\n");
         for (const auto& order : {"chain", "array"}) {

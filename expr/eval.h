@@ -1,11 +1,11 @@
 // expr/eval.h — the one evaluator: a tape run over any Number type.
 //
-// Contract: eval<T>(tape, p) computes the tape's function with T's arithmetic, at the point (or over
-// the box, for enclosure types) p = (x, y, z). For an enclosure T, for every point q in the box p at
-// which f is defined, f(q) lies in the result, and the result's decoration is true only if f is
-// defined and continuous on the whole box. A new number type is a new instantiation, never a copy
-// of this loop. For types whose operations switch the rounding mode (Interval, and anything built
-// on it), `Fast<T>` names the variant that runs inside one hoisted RoundingScope.
+// Contract: eval<T>(tape, p) computes the tape's function with T's arithmetic, at the point (or
+// over the box, for enclosure types) p = (x, y, z). For an enclosure T, for every point q in the
+// box p at which f is defined, f(q) lies in the result, and the result's decoration is true only if
+// f is defined and continuous on the whole box. A new number type is a new instantiation, never a
+// copy of this loop. For types whose operations switch the rounding mode (Interval, and anything
+// built on it), `Fast<T>` names the variant that runs inside one hoisted RoundingScope.
 #pragma once
 
 #include <array>
@@ -49,25 +49,63 @@ template <class T, class Observer = NoObserver>
 void run(const std::vector<Instr>& instrs, const std::array<T, 3>& p, T* r, Observer obs = {}) {
     for (const Instr& in : instrs) {
         switch (in.op) {
-            case Op::Const: r[in.out] = T(in.imm); break;
-            case Op::VarX: r[in.out] = p[0]; break;
-            case Op::VarY: r[in.out] = p[1]; break;
-            case Op::VarZ: r[in.out] = p[2]; break;
-            case Op::Neg: r[in.out] = -r[in.a]; break;
-            case Op::Abs: r[in.out] = abs(r[in.a]); break;
-            case Op::Square: r[in.out] = square(r[in.a]); break;
-            case Op::Sqrt: r[in.out] = sqrt(r[in.a]); break;
-            case Op::Exp: r[in.out] = exp(r[in.a]); break;
-            case Op::Log: r[in.out] = log(r[in.a]); break;
-            case Op::Sin: r[in.out] = sin(r[in.a]); break;
-            case Op::Cos: r[in.out] = cos(r[in.a]); break;
-            case Op::Pow: r[in.out] = pow(r[in.a], static_cast<unsigned>(in.b)); break;
-            case Op::Add: r[in.out] = r[in.a] + r[in.b]; break;
-            case Op::Sub: r[in.out] = r[in.a] - r[in.b]; break;
-            case Op::Mul: r[in.out] = r[in.a] * r[in.b]; break;
-            case Op::Div: r[in.out] = r[in.a] / r[in.b]; break;
-            case Op::Min: r[in.out] = min(r[in.a], r[in.b]); break;
-            case Op::Max: r[in.out] = max(r[in.a], r[in.b]); break;
+            case Op::Const:
+                r[in.out] = T(in.imm);
+                break;
+            case Op::VarX:
+                r[in.out] = p[0];
+                break;
+            case Op::VarY:
+                r[in.out] = p[1];
+                break;
+            case Op::VarZ:
+                r[in.out] = p[2];
+                break;
+            case Op::Neg:
+                r[in.out] = -r[in.a];
+                break;
+            case Op::Abs:
+                r[in.out] = abs(r[in.a]);
+                break;
+            case Op::Square:
+                r[in.out] = square(r[in.a]);
+                break;
+            case Op::Sqrt:
+                r[in.out] = sqrt(r[in.a]);
+                break;
+            case Op::Exp:
+                r[in.out] = exp(r[in.a]);
+                break;
+            case Op::Log:
+                r[in.out] = log(r[in.a]);
+                break;
+            case Op::Sin:
+                r[in.out] = sin(r[in.a]);
+                break;
+            case Op::Cos:
+                r[in.out] = cos(r[in.a]);
+                break;
+            case Op::Pow:
+                r[in.out] = pow(r[in.a], static_cast<unsigned>(in.b));
+                break;
+            case Op::Add:
+                r[in.out] = r[in.a] + r[in.b];
+                break;
+            case Op::Sub:
+                r[in.out] = r[in.a] - r[in.b];
+                break;
+            case Op::Mul:
+                r[in.out] = r[in.a] * r[in.b];
+                break;
+            case Op::Div:
+                r[in.out] = r[in.a] / r[in.b];
+                break;
+            case Op::Min:
+                r[in.out] = min(r[in.a], r[in.b]);
+                break;
+            case Op::Max:
+                r[in.out] = max(r[in.a], r[in.b]);
+                break;
         }
         obs(in, r);
     }
@@ -78,9 +116,9 @@ void run(const std::vector<Instr>& instrs, const std::array<T, 3>& p, T* r, Obse
 /// Evaluates tapes over T, reusing its register file: no allocation once the largest tape has
 /// been seen. Not thread-safe; use one Evaluator per thread.
 template <class T>
-    requires Number<typename Fast<T>::type>
+requires Number<typename Fast<T>::type>
 class Evaluator {
-public:
+  public:
     using Inner = typename Fast<T>::type;
 
     /// f(p) computed in T (for enclosures: an enclosure of f over the box p).
@@ -96,7 +134,7 @@ public:
     /// Number of whole-tape evaluations made so far.
     std::uint64_t evaluations() const noexcept { return evaluations_; }
 
-private:
+  private:
     std::vector<Inner> regs_;
     std::uint64_t evaluations_ = 0;
 };

@@ -155,10 +155,17 @@ NodeId Graph::constant(double value) {
 NodeId Graph::var(int axis) {
     Node n;
     switch (axis) {
-        case 0: n.op = Op::VarX; break;
-        case 1: n.op = Op::VarY; break;
-        case 2: n.op = Op::VarZ; break;
-        default: throw std::invalid_argument("expr::Graph: axis must be 0, 1 or 2");
+        case 0:
+            n.op = Op::VarX;
+            break;
+        case 1:
+            n.op = Op::VarY;
+            break;
+        case 2:
+            n.op = Op::VarZ;
+            break;
+        default:
+            throw std::invalid_argument("expr::Graph: axis must be 0, 1 or 2");
     }
     return insert(n);
 }
@@ -175,13 +182,13 @@ NodeId Graph::unary(Op op, NodeId a) {
     double r = 0.0;
     switch (op) {
         case Op::Neg:
-            if (is_const) return constant(-c);               // exact
-            if (na.op == Op::Neg) return na.a;               // −(−x) = x
+            if (is_const) return constant(-c);  // exact
+            if (na.op == Op::Neg) return na.a;  // −(−x) = x
             break;
         case Op::Abs:
-            if (is_const) return constant(std::fabs(c));     // exact
+            if (is_const) return constant(std::fabs(c));        // exact
             if (na.op == Op::Neg) return unary(Op::Abs, na.a);  // |−x| = |x|
-            if (na.op == Op::Abs) return a;                  // ||x|| = |x|
+            if (na.op == Op::Abs) return a;                     // ||x|| = |x|
             break;
         case Op::Square:
             if (is_const && rn && detail::exact_product(c, c, r)) return constant(r);
@@ -197,7 +204,7 @@ NodeId Graph::unary(Op op, NodeId a) {
             if (is_const && c == 1.0) return constant(0.0);  // ln 1 = 0 exactly
             break;
         case Op::Sin:
-            if (is_const && c == 0.0) return constant(c);    // sin(±0) = ±0
+            if (is_const && c == 0.0) return constant(c);  // sin(±0) = ±0
             break;
         case Op::Cos:
             if (is_const && c == 0.0) return constant(1.0);  // cos 0 = 1
@@ -223,7 +230,8 @@ NodeId Graph::unary(Op op, NodeId a) {
 
 NodeId Graph::binary(Op op, NodeId a, NodeId b) {
     if (arity(op) != 2) {
-        throw std::invalid_argument("expr::Graph::binary: not a binary op: " + std::string(name(op)));
+        throw std::invalid_argument("expr::Graph::binary: not a binary op: " +
+                                    std::string(name(op)));
     }
     check_child(a);
     check_child(b);
@@ -241,34 +249,36 @@ NodeId Graph::binary(Op op, NodeId a, NodeId b) {
     double r = 0.0;
     switch (op) {
         case Op::Add:
-            if (ca && cb && rn && detail::exact_sum(na.constant, nb.constant, r)) return constant(r);
+            if (ca && cb && rn && detail::exact_sum(na.constant, nb.constant, r))
+                return constant(r);
             if (cb && nb.constant == 0.0) return a;  // x + (±0) = x as a real function
             if (ca && na.constant == 0.0) return b;
             break;
         case Op::Sub:
-            if (ca && cb && rn && detail::exact_sum(na.constant, -nb.constant, r)) return constant(r);
-            if (cb && nb.constant == 0.0) return a;                     // x − 0 = x
-            if (ca && na.constant == 0.0) return unary(Op::Neg, b);     // 0 − x = −x
+            if (ca && cb && rn && detail::exact_sum(na.constant, -nb.constant, r))
+                return constant(r);
+            if (cb && nb.constant == 0.0) return a;                  // x − 0 = x
+            if (ca && na.constant == 0.0) return unary(Op::Neg, b);  // 0 − x = −x
             break;
         case Op::Mul:
             if (ca && cb && rn && detail::exact_product(na.constant, nb.constant, r)) {
                 return constant(r);
             }
-            if (cb && nb.constant == 1.0) return a;                     // x·1 = x
+            if (cb && nb.constant == 1.0) return a;  // x·1 = x
             if (ca && na.constant == 1.0) return b;
-            if (cb && nb.constant == -1.0) return unary(Op::Neg, a);    // x·(−1) = −x
+            if (cb && nb.constant == -1.0) return unary(Op::Neg, a);  // x·(−1) = −x
             if (ca && na.constant == -1.0) return unary(Op::Neg, b);
             break;
         case Op::Div:
             if (ca && cb && rn && detail::exact_quotient(na.constant, nb.constant, r)) {
                 return constant(r);
             }
-            if (cb && nb.constant == 1.0) return a;                     // x/1 = x
-            if (cb && nb.constant == -1.0) return unary(Op::Neg, a);    // x/(−1) = −x
+            if (cb && nb.constant == 1.0) return a;                   // x/1 = x
+            if (cb && nb.constant == -1.0) return unary(Op::Neg, a);  // x/(−1) = −x
             break;
         case Op::Min:
             if (ca && cb) return constant(std::fmin(na.constant, nb.constant));  // exact
-            if (a == b) return a;                                       // min(x, x) = x
+            if (a == b) return a;                                                // min(x, x) = x
             break;
         case Op::Max:
             if (ca && cb) return constant(std::fmax(na.constant, nb.constant));  // exact
@@ -342,10 +352,17 @@ std::vector<NodeId> Graph::topological_order() const { return topological_order(
 bool Graph::uses_var(int axis) const {
     Op want = Op::VarX;
     switch (axis) {
-        case 0: want = Op::VarX; break;
-        case 1: want = Op::VarY; break;
-        case 2: want = Op::VarZ; break;
-        default: throw std::invalid_argument("expr::Graph::uses_var: axis must be 0, 1 or 2");
+        case 0:
+            want = Op::VarX;
+            break;
+        case 1:
+            want = Op::VarY;
+            break;
+        case 2:
+            want = Op::VarZ;
+            break;
+        default:
+            throw std::invalid_argument("expr::Graph::uses_var: axis must be 0, 1 or 2");
     }
     for (NodeId id : topological_order()) {
         if (nodes_[id.value].op == want) return true;

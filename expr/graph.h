@@ -1,13 +1,14 @@
-// expr/graph.h — expr::Graph: the hash-consed expression DAG, an arena of nodes addressed by NodeId.
+// expr/graph.h — expr::Graph: the hash-consed expression DAG, an arena of nodes addressed by
+// NodeId.
 //
 // Contract: nodes are created only through constant/var/unary/binary/pow, which deduplicate them
 // (structural hashing; constants compared by bit pattern) and apply only simplifications that keep
 // the real function unchanged: constant folding only when the double result is exact (checked by
 // error-free transformations, and only in round-to-nearest), x·1 → x, x+0 → x, x−0 → x, x/1 → x,
 // −(−x) → x, x¹ → x, x² → square(x). Nothing that could make an undefined point defined is applied
-// (x − x is not 0, x·0 is not 0, x⁰ is not 1). Children always have smaller ids than their parent, so
-// ascending id order is a topological order; no method recurses over the DAG.
-// Reference: Fidget (mkeeter/fidget) `Context`; DESIGN.md "The flow of data".
+// (x − x is not 0, x·0 is not 0, x⁰ is not 1). Children always have smaller ids than their parent,
+// so ascending id order is a topological order; no method recurses over the DAG. Reference: Fidget
+// (mkeeter/fidget) `Context`; DESIGN.md "The flow of data".
 #pragma once
 
 #include <cstddef>
@@ -46,7 +47,7 @@ struct Node {
 
 /// The expression DAG. Value type (copyable); not thread-safe for concurrent insertion.
 class Graph {
-public:
+  public:
     /// The node for the finite constant `value`. Throws std::invalid_argument for NaN or ±inf.
     /// -0.0 and 0.0 are different nodes (compared by bit pattern).
     NodeId constant(double value);
@@ -79,7 +80,7 @@ public:
     /// The nodes reachable from the output, children before parents; empty if no output is set.
     std::vector<NodeId> topological_order() const;
 
-private:
+  private:
     struct NodeHash {
         std::size_t operator()(const Node& n) const noexcept;
     };
@@ -91,7 +92,8 @@ private:
     void check_child(NodeId id) const;
 
     std::vector<Node> nodes_;
-    std::vector<std::uint64_t> shape_;  ///< structural (Merkle) hash per node: orders commutative children
+    std::vector<std::uint64_t>
+        shape_;  ///< structural (Merkle) hash per node: orders commutative children
     std::unordered_map<Node, NodeId, NodeHash, NodeEqual> index_;
     NodeId output_;
 };

@@ -1,8 +1,10 @@
-// expr/input_error.h — certray::InputError: bad user input, with the file, line and column where it was found.
+// expr/input_error.h — certray::InputError: bad user input, with the file, line and column where it
+// was found.
 //
 // Contract: thrown by every reader of user input (the .expr parser, the .vm importer, scene and ray
-// files); only apps/ and bindings catch it. what() reads "file:line:col: message"; a line of 0 means
-// the error concerns the whole file (e.g. it cannot be opened) and what() reads "file: message".
+// files); only apps/ and bindings catch it. what() reads "file:line:col: message"; a line of 0
+// means the error concerns the whole file (e.g. it cannot be opened) and what() reads "file:
+// message".
 #pragma once
 
 #include <stdexcept>
@@ -13,7 +15,7 @@ namespace certray {
 
 /// Bad user input. `line` and `column` are 1-based; line 0 means "the whole file".
 class InputError : public std::runtime_error {
-public:
+  public:
     /// Builds the error; what() is "file:line:col: message" (or "file: message" when line == 0).
     InputError(std::string file, int line, int column, std::string message)
         : std::runtime_error(format(file, line, column, message)),
@@ -31,7 +33,7 @@ public:
     /// The message alone, without the location prefix.
     const std::string& message() const noexcept { return message_; }
 
-private:
+  private:
     static std::string format(const std::string& file, int line, int column,
                               const std::string& message) {
         if (line <= 0) return file + ": " + message;

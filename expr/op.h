@@ -1,8 +1,8 @@
 // expr/op.h — the operations of the expression DAG, with frozen numeric codes.
 //
-// The codes are written into files and tapes: NEVER renumber or reorder them; a new op gets the next
-// free code. Every switch over Op has no `default`, so that the build (-Werror=switch) fails where a
-// new op is not handled.
+// The codes are written into files and tapes: NEVER renumber or reorder them; a new op gets the
+// next free code. Every switch over Op has no `default`, so that the build (-Werror=switch) fails
+// where a new op is not handled.
 #pragma once
 
 #include <cstdint>
@@ -68,25 +68,44 @@ constexpr int arity(Op op) noexcept {
 /// Lower-case name of `op` (the function name used by the .expr language where there is one).
 constexpr std::string_view name(Op op) noexcept {
     switch (op) {
-        case Op::Const: return "const";
-        case Op::VarX: return "x";
-        case Op::VarY: return "y";
-        case Op::VarZ: return "z";
-        case Op::Neg: return "neg";
-        case Op::Abs: return "abs";
-        case Op::Square: return "square";
-        case Op::Sqrt: return "sqrt";
-        case Op::Exp: return "exp";
-        case Op::Log: return "log";
-        case Op::Sin: return "sin";
-        case Op::Cos: return "cos";
-        case Op::Add: return "add";
-        case Op::Sub: return "sub";
-        case Op::Mul: return "mul";
-        case Op::Div: return "div";
-        case Op::Min: return "min";
-        case Op::Max: return "max";
-        case Op::Pow: return "pow";
+        case Op::Const:
+            return "const";
+        case Op::VarX:
+            return "x";
+        case Op::VarY:
+            return "y";
+        case Op::VarZ:
+            return "z";
+        case Op::Neg:
+            return "neg";
+        case Op::Abs:
+            return "abs";
+        case Op::Square:
+            return "square";
+        case Op::Sqrt:
+            return "sqrt";
+        case Op::Exp:
+            return "exp";
+        case Op::Log:
+            return "log";
+        case Op::Sin:
+            return "sin";
+        case Op::Cos:
+            return "cos";
+        case Op::Add:
+            return "add";
+        case Op::Sub:
+            return "sub";
+        case Op::Mul:
+            return "mul";
+        case Op::Div:
+            return "div";
+        case Op::Min:
+            return "min";
+        case Op::Max:
+            return "max";
+        case Op::Pow:
+            return "pow";
     }
     return "?";  // unreachable for valid codes
 }

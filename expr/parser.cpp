@@ -1,4 +1,5 @@
-// expr/parser.cpp — lexer and precedence parser of the .expr language (see parser.h for the grammar).
+// expr/parser.cpp — lexer and precedence parser of the .expr language (see parser.h for the
+// grammar).
 #include "expr/parser.h"
 
 #include <charconv>
@@ -36,8 +37,10 @@ bool parse_decimal(std::string_view text, bool allow_sign, double& value, std::s
         ++i;
         while (i < text.size() && text[i] >= '0' && text[i] <= '9') {
             if (!seen_nonzero) {
-                if (text[i] == '0') ++leading_frac_zeros;
-                else seen_nonzero = true;
+                if (text[i] == '0')
+                    ++leading_frac_zeros;
+                else
+                    seen_nonzero = true;
             }
             ++frac_digits;
             ++i;
@@ -76,7 +79,8 @@ bool parse_decimal(std::string_view text, bool allow_sign, double& value, std::s
     const auto res = std::from_chars(first, last, v, std::chars_format::general);
     if (res.ec == std::errc::result_out_of_range) {
         // Overflow or underflow: decide from the decimal exponent of the leading digit.
-        first_nonzero_exp = int_digits > 0 ? int_digits - 1 + exp10 : -(leading_frac_zeros + 1) + exp10;
+        first_nonzero_exp =
+            int_digits > 0 ? int_digits - 1 + exp10 : -(leading_frac_zeros + 1) + exp10;
         if (seen_nonzero && first_nonzero_exp > 0) {
             error = "number '" + std::string(text) + "' is out of the range of double";
             return false;
@@ -107,8 +111,21 @@ std::string read_file(const std::filesystem::path& path) {
 
 namespace {
 
-enum class Tok { Number, Ident, Plus, Minus, Star, Slash, Caret, LParen, RParen, Comma, Equals,
-                 Newline, End };
+enum class Tok {
+    Number,
+    Ident,
+    Plus,
+    Minus,
+    Star,
+    Slash,
+    Caret,
+    LParen,
+    RParen,
+    Comma,
+    Equals,
+    Newline,
+    End
+};
 
 struct Token {
     Tok kind = Tok::End;
@@ -120,8 +137,10 @@ struct Token {
 
 std::string describe(const Token& t) {
     switch (t.kind) {
-        case Tok::Newline: return "end of line";
-        case Tok::End: return "end of input";
+        case Tok::Newline:
+            return "end of line";
+        case Tok::End:
+            return "end of input";
         case Tok::Number:
         case Tok::Ident:
         case Tok::Plus:
@@ -165,8 +184,10 @@ std::vector<Token> lex(std::string_view text, const std::string& file) {
     while (i < text.size()) {
         const char c = text[i];
         if (c == '\n') {
-            if (depth == 0) push(Tok::Newline, 1);
-            else ++i;
+            if (depth == 0)
+                push(Tok::Newline, 1);
+            else
+                ++i;
             ++line;
             col = 1;
         } else if (c == ' ' || c == '\t' || c == '\r') {
@@ -215,20 +236,41 @@ std::vector<Token> lex(std::string_view text, const std::string& file) {
         } else {
             Tok k = Tok::End;
             switch (c) {
-                case '+': k = Tok::Plus; break;
-                case '-': k = Tok::Minus; break;
-                case '*': k = Tok::Star; break;
-                case '/': k = Tok::Slash; break;
-                case '^': k = Tok::Caret; break;
-                case '(': k = Tok::LParen; ++depth; break;
-                case ')': k = Tok::RParen; if (depth > 0) --depth; break;
-                case ',': k = Tok::Comma; break;
-                case '=': k = Tok::Equals; break;
+                case '+':
+                    k = Tok::Plus;
+                    break;
+                case '-':
+                    k = Tok::Minus;
+                    break;
+                case '*':
+                    k = Tok::Star;
+                    break;
+                case '/':
+                    k = Tok::Slash;
+                    break;
+                case '^':
+                    k = Tok::Caret;
+                    break;
+                case '(':
+                    k = Tok::LParen;
+                    ++depth;
+                    break;
+                case ')':
+                    k = Tok::RParen;
+                    if (depth > 0) --depth;
+                    break;
+                case ',':
+                    k = Tok::Comma;
+                    break;
+                case '=':
+                    k = Tok::Equals;
+                    break;
                 default: {
-                    std::string shown = (static_cast<unsigned char>(c) < 0x20 ||
-                                         static_cast<unsigned char>(c) >= 0x7f)
-                                            ? "byte " + std::to_string(static_cast<unsigned char>(c))
-                                            : std::string{'\'', c, '\''};
+                    std::string shown =
+                        (static_cast<unsigned char>(c) < 0x20 ||
+                         static_cast<unsigned char>(c) >= 0x7f)
+                            ? "byte " + std::to_string(static_cast<unsigned char>(c))
+                            : std::string{'\'', c, '\''};
                     throw InputError(file, line, col, "unexpected character " + shown);
                 }
             }
@@ -269,8 +311,9 @@ int var_axis(std::string_view s) {
 }
 
 class Parser {
-public:
-    Parser(std::string_view text, std::string file) : file_(std::move(file)), toks_(lex(text, file_)) {}
+  public:
+    Parser(std::string_view text, std::string file)
+        : file_(std::move(file)), toks_(lex(text, file_)) {}
 
     Graph run() {
         std::optional<Token> final_start;  // the first token of the expression statement seen
@@ -278,8 +321,9 @@ public:
             while (peek().kind == Tok::Newline) ++pos_;
             if (peek().kind == Tok::End) break;
             if (final_start) {
-                fail(*final_start, "the expression defining f must be the last statement; name "
-                                   "intermediate values with 'name = ...'");
+                fail(*final_start,
+                     "the expression defining f must be the last statement; name "
+                     "intermediate values with 'name = ...'");
             }
             if (peek().kind == Tok::Ident && peek(1).kind == Tok::Equals) {
                 binding();
@@ -301,7 +345,7 @@ public:
         return std::move(graph_);
     }
 
-private:
+  private:
     struct Binding {
         NodeId id;
         int line;
@@ -328,7 +372,8 @@ private:
             fail(name, "cannot bind '" + key + "': the name is reserved");
         }
         if (auto it = bindings_.find(key); it != bindings_.end()) {
-            fail(name, "'" + key + "' is already defined at line " + std::to_string(it->second.line));
+            fail(name,
+                 "'" + key + "' is already defined at line " + std::to_string(it->second.line));
         }
         const NodeId value = sum();
         bindings_.emplace(key, Binding{value, name.line});
@@ -441,7 +486,8 @@ private:
             }
             const Token& close = peek();
             if (close.kind != Tok::RParen) {
-                fail(close, "expected ')' after arguments of '" + key + "', found " + describe(close));
+                fail(close,
+                     "expected ')' after arguments of '" + key + "', found " + describe(close));
             }
             take();
             if (static_cast<int>(args.size()) != fn->args) {

@@ -7,8 +7,8 @@
 //   sum       := product { ('+' | '-') product }          ; left-associative
 //   product   := unary { ('*' | '/') unary }              ; left-associative
 //   unary     := { '-' } power                            ; -x^2 is −(x²)
-//   power     := primary [ '^' integer ]                   ; chains a^2^3 are rejected: write (a^2)^3
-//   primary   := number | x | y | z | name | function '(' sum { ',' sum } ')' | '(' sum ')'
+//   power     := primary [ '^' integer ]                   ; chains a^2^3 are rejected: write
+//   (a^2)^3 primary   := number | x | y | z | name | function '(' sum { ',' sum } ')' | '(' sum ')'
 // Numbers are decimal (`1`, `1.5`, `.5`, `1.`, `2e-3`), meaning the nearest double; no sign, no
 // hex, no inf/nan. Functions: sqrt abs exp log sin cos square (1 argument), min max (2).
 // Comments run from '#' to the end of the line. Nesting (parentheses, function calls) is limited to
@@ -32,14 +32,15 @@ inline constexpr int kMaxNesting = 256;
 /// message") on any malformed input; `filename` is used only in messages.
 Graph parse_expr(std::string_view text, std::string_view filename = "<string>");
 
-/// Reads and parses the .expr file at `path`. Throws certray::InputError, also when it cannot be read.
+/// Reads and parses the .expr file at `path`. Throws certray::InputError, also when it cannot be
+/// read.
 Graph parse_expr_file(const std::filesystem::path& path);
 
 namespace detail {
 
 /// Parses a whole decimal literal (digits with optional '.', fraction and exponent; an optional
-/// leading sign when `allow_sign`) to the nearest double; underflow gives ±0. Returns false and sets
-/// `error` for anything else (hex, inf, nan, trailing characters, overflow).
+/// leading sign when `allow_sign`) to the nearest double; underflow gives ±0. Returns false and
+/// sets `error` for anything else (hex, inf, nan, trailing characters, overflow).
 bool parse_decimal(std::string_view text, bool allow_sign, double& value, std::string& error);
 
 /// Reads a whole file into a string. Throws certray::InputError (line 0) when it cannot.

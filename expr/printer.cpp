@@ -2,8 +2,8 @@
 #include "expr/printer.h"
 
 #include <charconv>
-#include <deque>
 #include <cmath>
+#include <deque>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -56,7 +56,7 @@ std::string format_constant(double c) {
 }
 
 class Printer {
-public:
+  public:
     explicit Printer(const Graph& g) : g_(g) {}
 
     std::string run() {
@@ -97,7 +97,7 @@ public:
         return std::move(out_);
     }
 
-private:
+  private:
     // Depth-first postorder from the root, children a then b: depends on structure only, not ids.
     std::vector<NodeId> postorder(NodeId root) const {
         std::vector<NodeId> order;
@@ -125,8 +125,8 @@ private:
     }
 
     struct Task {
-        NodeId id;           // a node to print, or invalid for literal text
-        int min_prec = 0;    // the node needs parentheses below this strength
+        NodeId id;         // a node to print, or invalid for literal text
+        int min_prec = 0;  // the node needs parentheses below this strength
         const char* text = nullptr;
         bool expand = false;  // print the definition even if the node is bound
     };
@@ -160,22 +160,46 @@ private:
                 pieces.push_back(text(")"));
             };
             switch (n.op) {
-                case Op::Const: out_ += format_constant(n.constant); continue;
-                case Op::VarX: out_ += 'x'; continue;
-                case Op::VarY: out_ += 'y'; continue;
-                case Op::VarZ: out_ += 'z'; continue;
+                case Op::Const:
+                    out_ += format_constant(n.constant);
+                    continue;
+                case Op::VarX:
+                    out_ += 'x';
+                    continue;
+                case Op::VarY:
+                    out_ += 'y';
+                    continue;
+                case Op::VarZ:
+                    out_ += 'z';
+                    continue;
                 case Op::Neg:
                     pieces.push_back(text("-"));
                     pieces.push_back(child(n.a, 3));
                     break;
-                case Op::Abs: call("abs("); break;
-                case Op::Sqrt: call("sqrt("); break;
-                case Op::Exp: call("exp("); break;
-                case Op::Log: call("log("); break;
-                case Op::Sin: call("sin("); break;
-                case Op::Cos: call("cos("); break;
-                case Op::Min: call("min("); break;
-                case Op::Max: call("max("); break;
+                case Op::Abs:
+                    call("abs(");
+                    break;
+                case Op::Sqrt:
+                    call("sqrt(");
+                    break;
+                case Op::Exp:
+                    call("exp(");
+                    break;
+                case Op::Log:
+                    call("log(");
+                    break;
+                case Op::Sin:
+                    call("sin(");
+                    break;
+                case Op::Cos:
+                    call("cos(");
+                    break;
+                case Op::Min:
+                    call("min(");
+                    break;
+                case Op::Max:
+                    call("max(");
+                    break;
                 case Op::Square:
                     pieces.push_back(child(n.a, 5));
                     pieces.push_back(text("^2"));
@@ -207,8 +231,8 @@ private:
 
     const Graph& g_;
     std::vector<int> uses_;
-    std::vector<std::string> names_;  // binding name of a bound node, empty otherwise
-    std::deque<std::string> exponents_;   // keeps "^n" texts alive while tasks point at them
+    std::vector<std::string> names_;     // binding name of a bound node, empty otherwise
+    std::deque<std::string> exponents_;  // keeps "^n" texts alive while tasks point at them
     std::string out_;
 };
 

@@ -1,9 +1,8 @@
 // expr/prune.cpp — pruning by min/max choices recorded during one interval evaluation of the SSA.
 #include "expr/prune.h"
 
-#include <vector>
-
 #include <cmath>
+#include <vector>
 
 #include "expr/eval.h"
 
@@ -31,10 +30,14 @@ PruneResult prune(const Tape& tape, const std::array<Interval, 3>& box) {
             if (in.op == Op::Min || in.op == Op::Max) {
                 const UpInterval& a = r[in.a];
                 const UpInterval& b = r[in.b];
-                const bool a_wins = in.op == Op::Min ? a.upper() <= b.lower() : a.lower() >= b.upper();
-                const bool b_wins = in.op == Op::Min ? b.upper() <= a.lower() : b.lower() >= a.upper();
-                if (a_wins && b.defined) keep[in.out] = Keep::A;
-                else if (b_wins && a.defined) keep[in.out] = Keep::B;
+                const bool a_wins =
+                    in.op == Op::Min ? a.upper() <= b.lower() : a.lower() >= b.upper();
+                const bool b_wins =
+                    in.op == Op::Min ? b.upper() <= a.lower() : b.lower() >= a.upper();
+                if (a_wins && b.defined)
+                    keep[in.out] = Keep::A;
+                else if (b_wins && a.defined)
+                    keep[in.out] = Keep::B;
             }
             if (in.op != Op::Const && out.defined && out.lower() == out.upper() &&
                 std::isfinite(out.lower())) {

@@ -27,7 +27,7 @@ struct Instr {
 
 /// The instruction list of a compiled expression. Cheap to copy; immutable after construction.
 class Tape {
-public:
+  public:
     Tape() = default;
     /// Compiles the part of `g` reachable from its output. Throws std::invalid_argument when the
     /// graph has no output.
@@ -50,7 +50,7 @@ public:
     /// instruction is the output), allocating registers.
     static Tape from_ssa(std::vector<Instr> ssa);
 
-private:
+  private:
     void allocate_registers();
 
     std::vector<Instr> ssa_;

@@ -141,9 +141,15 @@ Graph import_vm(std::string_view text, std::string_view filename) {
         };
         NodeId node;
         switch (oc.kind) {
-            case Kind::VarX: node = g.var(0); break;
-            case Kind::VarY: node = g.var(1); break;
-            case Kind::VarZ: node = g.var(2); break;
+            case Kind::VarX:
+                node = g.var(0);
+                break;
+            case Kind::VarY:
+                node = g.var(1);
+                break;
+            case Kind::VarZ:
+                node = g.var(2);
+                break;
             case Kind::Const: {
                 double v = 0.0;
                 std::string error;
@@ -151,7 +157,9 @@ Graph import_vm(std::string_view text, std::string_view filename) {
                 node = g.constant(v);
                 break;
             }
-            case Kind::Unary: node = g.unary(oc.op, arg(0)); break;
+            case Kind::Unary:
+                node = g.unary(oc.op, arg(0));
+                break;
             case Kind::Binary: {
                 const NodeId a = arg(0);
                 const NodeId b = arg(1);

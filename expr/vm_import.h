@@ -4,8 +4,8 @@
 // are skipped; ids are any token without spaces; arguments name ids defined on earlier lines; the
 // last instruction is the output. Supported opcodes: var-x var-y var-z, const <number>,
 // neg abs sqrt square exp ln sin cos (one argument), add sub mul div min max (two; `sub a b` is
-// a − b). The other Fidget opcodes (floor ceil round tan asin acos atan not atan2 compare mod and or)
-// are rejected as unsupported. Every error is a certray::InputError with line and column.
+// a − b). The other Fidget opcodes (floor ceil round tan asin acos atan not atan2 compare mod and
+// or) are rejected as unsupported. Every error is a certray::InputError with line and column.
 // Reference: Fidget (mkeeter/fidget) `models/*.vm`, `fidget::Context::from_text`.
 #pragma once
 
@@ -22,7 +22,8 @@ namespace certray::expr {
 /// (including forward references), duplicate ids, wrong argument counts and bad numbers.
 Graph import_vm(std::string_view text, std::string_view filename = "<string>");
 
-/// Reads and imports the .vm file at `path`. Throws certray::InputError, also when it cannot be read.
+/// Reads and imports the .vm file at `path`. Throws certray::InputError, also when it cannot be
+/// read.
 Graph import_vm_file(const std::filesystem::path& path);
 
 }  // namespace certray::expr

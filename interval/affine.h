@@ -20,7 +20,7 @@
 // coefficients fall back to from_interval of the Interval result.
 //
 // Reference: docs/theory/affine.md; J. Stolfi, L. H. de Figueiredo, "Self-validated numerical
-// methods and applications", IMPA 1997; F. Messine, "Extentions of affine arithmetic: application
+// methods and applications", IMPA 1997; F. Messine, "Extensions of affine arithmetic: application
 // to unconstrained global optimization", J. Universal Computer Science 8(11), 2002 (AF1).
 #pragma once
 

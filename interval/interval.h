@@ -17,7 +17,6 @@
 #pragma once
 
 #include <boost/numeric/interval.hpp>
-
 #include <cmath>
 #include <limits>
 
@@ -165,16 +164,30 @@ using UpInterval = BasicInterval<UpwardRounding>;
 
 // ---- queries ---------------------------------------------------------------------------------
 
-template <class M> double lower(const BasicInterval<M>& x) { return x.lower(); }
-template <class M> double upper(const BasicInterval<M>& x) { return x.upper(); }
-template <class M> bool is_defined(const BasicInterval<M>& x) { return x.defined; }
-template <class M> bool is_empty(const BasicInterval<M>& x) { return x.is_empty(); }
+template <class M>
+double lower(const BasicInterval<M>& x) {
+    return x.lower();
+}
+template <class M>
+double upper(const BasicInterval<M>& x) {
+    return x.upper();
+}
+template <class M>
+bool is_defined(const BasicInterval<M>& x) {
+    return x.defined;
+}
+template <class M>
+bool is_empty(const BasicInterval<M>& x) {
+    return x.is_empty();
+}
 /// Width rounded upward (+inf when unbounded, 0 for empty).
-template <class M> double width(const BasicInterval<M>& x) {
+template <class M>
+double width(const BasicInterval<M>& x) {
     return x.is_empty() ? 0.0 : boost::numeric::width(x.iv);
 }
 /// A point inside a non-empty interval (0 for entire, finite for half-unbounded intervals).
-template <class M> double midpoint(const BasicInterval<M>& x) {
+template <class M>
+double midpoint(const BasicInterval<M>& x) {
     double l = x.lower(), u = x.upper();
     if (std::isinf(l) && std::isinf(u)) return 0.0;
     if (std::isinf(l)) return u > 0 ? 0.0 : (u == 0 ? -1.0 : 2 * u - 1.0);
@@ -182,49 +195,64 @@ template <class M> double midpoint(const BasicInterval<M>& x) {
     double m = 0.5 * l + 0.5 * u;
     return m < l ? l : (m > u ? u : m);
 }
-template <class M> bool contains(const BasicInterval<M>& x, double v) {
+template <class M>
+bool contains(const BasicInterval<M>& x, double v) {
     return x.lower() <= v && v <= x.upper();
 }
 /// True when y ⊆ x (empty y is a subset of everything).
-template <class M> bool contains(const BasicInterval<M>& x, const BasicInterval<M>& y) {
+template <class M>
+bool contains(const BasicInterval<M>& x, const BasicInterval<M>& y) {
     return y.is_empty() || (x.lower() <= y.lower() && y.upper() <= x.upper());
 }
-template <class M> BasicInterval<M> hull(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+BasicInterval<M> hull(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return {boost::numeric::hull(a.iv, b.iv), a.defined && b.defined};
 }
-template <class M> BasicInterval<M> intersect(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+BasicInterval<M> intersect(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return {boost::numeric::intersect(a.iv, b.iv), a.defined && b.defined};
 }
 
-// ---- comparisons: certainly_* holds for every pair of members, possibly_* for some pair ----------
-// Empty operands: certainly_* is vacuously true, possibly_* false.
+// ---- comparisons: certainly_* holds for every pair of members, possibly_* for some pair
+// ---------- Empty operands: certainly_* is vacuously true, possibly_* false.
 
-template <class M> bool certainly_lt(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+bool certainly_lt(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return a.is_empty() || b.is_empty() || a.upper() < b.lower();
 }
-template <class M> bool certainly_le(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+bool certainly_le(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return a.is_empty() || b.is_empty() || a.upper() <= b.lower();
 }
-template <class M> bool certainly_gt(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+bool certainly_gt(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return certainly_lt(b, a);
 }
-template <class M> bool certainly_ge(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+bool certainly_ge(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return certainly_le(b, a);
 }
-template <class M> bool possibly_lt(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+bool possibly_lt(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return !a.is_empty() && !b.is_empty() && a.lower() < b.upper();
 }
-template <class M> bool possibly_le(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+bool possibly_le(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return !a.is_empty() && !b.is_empty() && a.lower() <= b.upper();
 }
-template <class M> bool possibly_gt(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+bool possibly_gt(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return possibly_lt(b, a);
 }
-template <class M> bool possibly_ge(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+bool possibly_ge(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return possibly_le(b, a);
 }
 /// 0 ∈ x.
-template <class M> bool possibly_zero(const BasicInterval<M>& x) { return contains(x, 0.0); }
+template <class M>
+bool possibly_zero(const BasicInterval<M>& x) {
+    return contains(x, 0.0);
+}
 
 // ---- arithmetic ------------------------------------------------------------------------------
 // Every result is defined where both operands are, and the operation is defined on the whole box.
@@ -243,19 +271,23 @@ BasicInterval<M> repair(const BasicInterval<M>& r, const BasicInterval<M>& a,
 }  // namespace detail
 
 /// [a, b] + [c, d] = [a + c rounded down, b + d rounded up].
-template <class M> BasicInterval<M> operator+(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+BasicInterval<M> operator+(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return detail::repair(BasicInterval<M>{a.iv + b.iv, a.defined && b.defined}, a, b);
 }
 /// [a, b] − [c, d] = [a − d rounded down, b − c rounded up].
-template <class M> BasicInterval<M> operator-(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+BasicInterval<M> operator-(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return detail::repair(BasicInterval<M>{a.iv - b.iv, a.defined && b.defined}, a, b);
 }
 /// −[a, b] = [−b, −a] (exact).
-template <class M> BasicInterval<M> operator-(const BasicInterval<M>& a) {
+template <class M>
+BasicInterval<M> operator-(const BasicInterval<M>& a) {
     return {-a.iv, a.defined};
 }
 /// Product by Boost's sign-case table (9 cases), each bound rounded outward; 0 · ∞ counts as 0.
-template <class M> BasicInterval<M> operator*(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+BasicInterval<M> operator*(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return detail::repair(BasicInterval<M>{a.iv * b.iv, a.defined && b.defined}, a, b);
 }
 
@@ -267,7 +299,8 @@ template <class M> BasicInterval<M> operator*(const BasicInterval<M>& a, const B
 ///   b = [c, 0], c<0  → the mirror image
 ///   c < 0 < d        → a = [0,0]: [0,0]; else entire
 /// The result is never `defined` when 0 ∈ b.
-template <class M> BasicInterval<M> operator/(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+BasicInterval<M> operator/(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     using I = BasicInterval<M>;
     if (a.is_empty() || b.is_empty()) return I::empty();
     const double c = b.lower(), d = b.upper();
@@ -294,69 +327,117 @@ template <class M> BasicInterval<M> operator/(const BasicInterval<M>& a, const B
     return I{I::Boost::whole(), false};
 }
 
-template <class M> BasicInterval<M> operator+(const BasicInterval<M>& a, double b) { return a + BasicInterval<M>(b); }
-template <class M> BasicInterval<M> operator+(double a, const BasicInterval<M>& b) { return BasicInterval<M>(a) + b; }
-template <class M> BasicInterval<M> operator-(const BasicInterval<M>& a, double b) { return a - BasicInterval<M>(b); }
-template <class M> BasicInterval<M> operator-(double a, const BasicInterval<M>& b) { return BasicInterval<M>(a) - b; }
-template <class M> BasicInterval<M> operator*(const BasicInterval<M>& a, double b) { return a * BasicInterval<M>(b); }
-template <class M> BasicInterval<M> operator*(double a, const BasicInterval<M>& b) { return BasicInterval<M>(a) * b; }
-template <class M> BasicInterval<M> operator/(const BasicInterval<M>& a, double b) { return a / BasicInterval<M>(b); }
-template <class M> BasicInterval<M> operator/(double a, const BasicInterval<M>& b) { return BasicInterval<M>(a) / b; }
+template <class M>
+BasicInterval<M> operator+(const BasicInterval<M>& a, double b) {
+    return a + BasicInterval<M>(b);
+}
+template <class M>
+BasicInterval<M> operator+(double a, const BasicInterval<M>& b) {
+    return BasicInterval<M>(a) + b;
+}
+template <class M>
+BasicInterval<M> operator-(const BasicInterval<M>& a, double b) {
+    return a - BasicInterval<M>(b);
+}
+template <class M>
+BasicInterval<M> operator-(double a, const BasicInterval<M>& b) {
+    return BasicInterval<M>(a) - b;
+}
+template <class M>
+BasicInterval<M> operator*(const BasicInterval<M>& a, double b) {
+    return a * BasicInterval<M>(b);
+}
+template <class M>
+BasicInterval<M> operator*(double a, const BasicInterval<M>& b) {
+    return BasicInterval<M>(a) * b;
+}
+template <class M>
+BasicInterval<M> operator/(const BasicInterval<M>& a, double b) {
+    return a / BasicInterval<M>(b);
+}
+template <class M>
+BasicInterval<M> operator/(double a, const BasicInterval<M>& b) {
+    return BasicInterval<M>(a) / b;
+}
 
-template <class M> BasicInterval<M>& operator+=(BasicInterval<M>& a, const BasicInterval<M>& b) { return a = a + b; }
-template <class M> BasicInterval<M>& operator-=(BasicInterval<M>& a, const BasicInterval<M>& b) { return a = a - b; }
-template <class M> BasicInterval<M>& operator*=(BasicInterval<M>& a, const BasicInterval<M>& b) { return a = a * b; }
-template <class M> BasicInterval<M>& operator/=(BasicInterval<M>& a, const BasicInterval<M>& b) { return a = a / b; }
+template <class M>
+BasicInterval<M>& operator+=(BasicInterval<M>& a, const BasicInterval<M>& b) {
+    return a = a + b;
+}
+template <class M>
+BasicInterval<M>& operator-=(BasicInterval<M>& a, const BasicInterval<M>& b) {
+    return a = a - b;
+}
+template <class M>
+BasicInterval<M>& operator*=(BasicInterval<M>& a, const BasicInterval<M>& b) {
+    return a = a * b;
+}
+template <class M>
+BasicInterval<M>& operator/=(BasicInterval<M>& a, const BasicInterval<M>& b) {
+    return a = a / b;
+}
 
 // ---- elementary functions ----------------------------------------------------------------------
 
 /// |[a, b]|: [a, b] if a ≥ 0; [−b, −a] if b ≤ 0; [0, max(−a, b)] otherwise. Exact.
-template <class M> BasicInterval<M> abs(const BasicInterval<M>& x) {
+template <class M>
+BasicInterval<M> abs(const BasicInterval<M>& x) {
     return {boost::numeric::abs(x.iv), x.defined};
 }
 /// [a, b]²: [a², b²] if a ≥ 0; [b², a²] if b ≤ 0; [0, max(a², b²)] otherwise; rounded outward.
-template <class M> BasicInterval<M> square(const BasicInterval<M>& x) {
+template <class M>
+BasicInterval<M> square(const BasicInterval<M>& x) {
     return {boost::numeric::square(x.iv), x.defined};
 }
 /// xⁿ for a non-negative integer n: x⁰ = [1, 1]; even n as square, odd n monotone.
-template <class M> BasicInterval<M> pow(const BasicInterval<M>& x, unsigned n) {
+template <class M>
+BasicInterval<M> pow(const BasicInterval<M>& x, unsigned n) {
     if (x.is_empty()) return BasicInterval<M>::empty();
     if (n == 0) return {typename BasicInterval<M>::Boost(1.0), x.defined};
     return detail::repair(
         BasicInterval<M>{boost::numeric::pow(x.iv, static_cast<int>(n)), x.defined}, x, x);
 }
 /// √ on [a, b] ∩ [0, ∞): [√max(a,0) down, √b up]; empty if b < 0; defined only if a ≥ 0.
-template <class M> BasicInterval<M> sqrt(const BasicInterval<M>& x) {
+template <class M>
+BasicInterval<M> sqrt(const BasicInterval<M>& x) {
     return {boost::numeric::sqrt(x.iv), x.defined && x.lower() >= 0};
 }
 /// exp is increasing: [exp_down(a), exp_up(b)].
-template <class M> BasicInterval<M> exp(const BasicInterval<M>& x) {
+template <class M>
+BasicInterval<M> exp(const BasicInterval<M>& x) {
     return {boost::numeric::exp(x.iv), x.defined};
 }
 /// log on [a, b] ∩ (0, ∞): [log_down(a) or −∞ if a ≤ 0, log_up(b)]; empty if b ≤ 0;
 /// defined only if a > 0.
-template <class M> BasicInterval<M> log(const BasicInterval<M>& x) {
+template <class M>
+BasicInterval<M> log(const BasicInterval<M>& x) {
     return {boost::numeric::log(x.iv), x.defined && x.lower() > 0};
 }
 /// cos: the box is reduced modulo 2π with interval π bounds; a box of width ≥ 2π, an unbounded
 /// box or a reduction too coarse to tell gives [−1, 1]; otherwise monotone pieces.
-template <class M> BasicInterval<M> cos(const BasicInterval<M>& x) {
+template <class M>
+BasicInterval<M> cos(const BasicInterval<M>& x) {
     if (x.is_empty()) return BasicInterval<M>::empty();
-    if (!std::isfinite(x.lower()) || !std::isfinite(x.upper())) return {BasicInterval<M>(-1.0, 1.0).iv, x.defined};
+    if (!std::isfinite(x.lower()) || !std::isfinite(x.upper()))
+        return {BasicInterval<M>(-1.0, 1.0).iv, x.defined};
     return {boost::numeric::cos(x.iv), x.defined};
 }
 /// sin(x) = cos(x − π/2) with π/2 as an interval.
-template <class M> BasicInterval<M> sin(const BasicInterval<M>& x) {
+template <class M>
+BasicInterval<M> sin(const BasicInterval<M>& x) {
     if (x.is_empty()) return BasicInterval<M>::empty();
-    if (!std::isfinite(x.lower()) || !std::isfinite(x.upper())) return {BasicInterval<M>(-1.0, 1.0).iv, x.defined};
+    if (!std::isfinite(x.lower()) || !std::isfinite(x.upper()))
+        return {BasicInterval<M>(-1.0, 1.0).iv, x.defined};
     return {boost::numeric::sin(x.iv), x.defined};
 }
 /// min([a, b], [c, d]) = [min(a, c), min(b, d)]. Exact.
-template <class M> BasicInterval<M> min(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+BasicInterval<M> min(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return {boost::numeric::min(a.iv, b.iv), a.defined && b.defined};
 }
 /// max([a, b], [c, d]) = [max(a, c), max(b, d)]. Exact.
-template <class M> BasicInterval<M> max(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+template <class M>
+BasicInterval<M> max(const BasicInterval<M>& a, const BasicInterval<M>& b) {
     return {boost::numeric::max(a.iv, b.iv), a.defined && b.defined};
 }
 

@@ -45,7 +45,7 @@ concept Number = std::copyable<T> && requires(const T& a, const T& b, double c, 
     T(c);
     { a + b } -> std::convertible_to<T>;
     { a - b } -> std::convertible_to<T>;
-    { a * b } -> std::convertible_to<T>;
+    { a* b } -> std::convertible_to<T>;
     { a / b } -> std::convertible_to<T>;
     { -a } -> std::convertible_to<T>;
     { abs(a) } -> std::convertible_to<T>;

@@ -2,13 +2,13 @@
 // Lipschitz bounds, against mathematics and against MPFR on random DAGs.
 #include "expr/eval.h"
 
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
 #include <array>
 #include <cmath>
 #include <limits>
 #include <random>
-
-#include <gtest/gtest.h>
-#include <rapidcheck/gtest.h>
 
 #include "expr/derived.h"
 #include "expr/graph.h"
@@ -28,9 +28,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 Graph unit_sphere() {
     Graph g;
     const NodeId x = g.var(0), y = g.var(1), z = g.var(2);
-    const NodeId r2 = g.binary(Op::Add, g.binary(Op::Add, g.unary(Op::Square, x),
-                                                 g.unary(Op::Square, y)),
-                               g.unary(Op::Square, z));
+    const NodeId r2 =
+        g.binary(Op::Add, g.binary(Op::Add, g.unary(Op::Square, x), g.unary(Op::Square, y)),
+                 g.unary(Op::Square, z));
     g.set_output(g.binary(Op::Sub, g.unary(Op::Sqrt, r2), g.constant(1.0)));
     return g;
 }
@@ -89,9 +89,9 @@ TEST(Prune, MinOfTwoSpheresKeepsTheNearOne) {
     Graph g;
     auto sphere = [&](double cx) {
         const NodeId dx = g.binary(Op::Sub, g.var(0), g.constant(cx));
-        const NodeId r2 = g.binary(Op::Add, g.binary(Op::Add, g.unary(Op::Square, dx),
-                                                     g.unary(Op::Square, g.var(1))),
-                                   g.unary(Op::Square, g.var(2)));
+        const NodeId r2 = g.binary(
+            Op::Add, g.binary(Op::Add, g.unary(Op::Square, dx), g.unary(Op::Square, g.var(1))),
+            g.unary(Op::Square, g.var(2)));
         return g.binary(Op::Sub, g.unary(Op::Sqrt, r2), g.constant(1.0));
     };
     g.set_output(g.binary(Op::Min, sphere(-2.0), sphere(2.0)));

@@ -2,12 +2,12 @@
 // simplifications that keep the real function, reachability and the builder.
 #include "expr/graph.h"
 
+#include <gtest/gtest.h>
+
 #include <cfenv>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-
-#include <gtest/gtest.h>
 
 #include "expr/builder.h"
 #include "expr/op.h"
@@ -227,9 +227,9 @@ TEST(Builder, SphereMatchesManualConstruction) {
 
     Graph h;
     const NodeId hx = h.var(0), hy = h.var(1), hz = h.var(2);
-    const NodeId r2 = h.binary(Op::Add,
-                               h.binary(Op::Add, h.binary(Op::Mul, hx, hx), h.binary(Op::Mul, hy, hy)),
-                               h.binary(Op::Mul, hz, hz));
+    const NodeId r2 =
+        h.binary(Op::Add, h.binary(Op::Add, h.binary(Op::Mul, hx, hx), h.binary(Op::Mul, hy, hy)),
+                 h.binary(Op::Mul, hz, hz));
     const NodeId hf = h.binary(Op::Sub, h.unary(Op::Sqrt, r2), h.constant(1.0));
     EXPECT_EQ(g.size(), h.size());
     EXPECT_EQ(f.id, hf);

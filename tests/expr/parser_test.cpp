@@ -2,13 +2,13 @@
 // with its location, nesting limits, and the printer's round trip.
 #include "expr/parser.h"
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include <gmock/gmock.h>
-#include <gtest/gtest.h>
 
 #include "expr/input_error.h"
 #include "expr/printer.h"
@@ -28,25 +28,64 @@ double eval(const Graph& g, double x, double y, double z) {
         const double b = n.b.valid() ? v[n.b.value] : 0.0;
         double r = 0.0;
         switch (n.op) {
-            case Op::Const: r = n.constant; break;
-            case Op::VarX: r = x; break;
-            case Op::VarY: r = y; break;
-            case Op::VarZ: r = z; break;
-            case Op::Neg: r = -a; break;
-            case Op::Abs: r = std::fabs(a); break;
-            case Op::Square: r = a * a; break;
-            case Op::Sqrt: r = std::sqrt(a); break;
-            case Op::Exp: r = std::exp(a); break;
-            case Op::Log: r = std::log(a); break;
-            case Op::Sin: r = std::sin(a); break;
-            case Op::Cos: r = std::cos(a); break;
-            case Op::Add: r = a + b; break;
-            case Op::Sub: r = a - b; break;
-            case Op::Mul: r = a * b; break;
-            case Op::Div: r = a / b; break;
-            case Op::Min: r = std::fmin(a, b); break;
-            case Op::Max: r = std::fmax(a, b); break;
-            case Op::Pow: r = 1.0; for (std::uint32_t k = 0; k < n.exponent; ++k) r *= a; break;
+            case Op::Const:
+                r = n.constant;
+                break;
+            case Op::VarX:
+                r = x;
+                break;
+            case Op::VarY:
+                r = y;
+                break;
+            case Op::VarZ:
+                r = z;
+                break;
+            case Op::Neg:
+                r = -a;
+                break;
+            case Op::Abs:
+                r = std::fabs(a);
+                break;
+            case Op::Square:
+                r = a * a;
+                break;
+            case Op::Sqrt:
+                r = std::sqrt(a);
+                break;
+            case Op::Exp:
+                r = std::exp(a);
+                break;
+            case Op::Log:
+                r = std::log(a);
+                break;
+            case Op::Sin:
+                r = std::sin(a);
+                break;
+            case Op::Cos:
+                r = std::cos(a);
+                break;
+            case Op::Add:
+                r = a + b;
+                break;
+            case Op::Sub:
+                r = a - b;
+                break;
+            case Op::Mul:
+                r = a * b;
+                break;
+            case Op::Div:
+                r = a / b;
+                break;
+            case Op::Min:
+                r = std::fmin(a, b);
+                break;
+            case Op::Max:
+                r = std::fmax(a, b);
+                break;
+            case Op::Pow:
+                r = 1.0;
+                for (std::uint32_t k = 0; k < n.exponent; ++k) r *= a;
+                break;
         }
         v[id.value] = r;
     }
@@ -136,8 +175,8 @@ TEST(Parser, Literals) {
     EXPECT_EQ(out(parse_expr("1.")).constant, 1.0);
     EXPECT_EQ(out(parse_expr("2e-3")).constant, 0.002);
     EXPECT_EQ(out(parse_expr("2E+3")).constant, 2000.0);
-    EXPECT_EQ(out(parse_expr("0.1")).constant, 0.1);  // the nearest double
-    EXPECT_EQ(out(parse_expr("1e-400")).constant, 0.0);  // nearest double to 10^-400 is 0
+    EXPECT_EQ(out(parse_expr("0.1")).constant, 0.1);        // the nearest double
+    EXPECT_EQ(out(parse_expr("1e-400")).constant, 0.0);     // nearest double to 10^-400 is 0
     EXPECT_EQ(out(parse_expr("4e-320")).constant, 4e-320);  // subnormal
     EXPECT_EQ(out(parse_expr("-0")).constant, 0.0);
     EXPECT_TRUE(std::signbit(out(parse_expr("-0")).constant));
@@ -150,8 +189,8 @@ TEST(Parser, FunctionsAndComments) {
         "# a comment line\n"
         "min(sqrt(x), abs(y)) + max(exp(z), log(x)) - sin(y) * cos(z)  # trailing comment\n");
     const double x = 2.0, y = -0.5, z = 0.25;
-    const double want = std::fmin(std::sqrt(x), std::fabs(y)) + std::fmax(std::exp(z), std::log(x)) -
-                        std::sin(y) * std::cos(z);
+    const double want = std::fmin(std::sqrt(x), std::fabs(y)) +
+                        std::fmax(std::exp(z), std::log(x)) - std::sin(y) * std::cos(z);
     EXPECT_EQ(eval(g, x, y, z), want);
     EXPECT_TRUE(g.uses_var(0));
     EXPECT_TRUE(g.uses_var(2));
@@ -177,9 +216,9 @@ TEST(Parser, TheExampleOfTheDesign) {
         "min(sqrt(r2) - 1, z + 0.5)    # the last expression is f\n",
         "design.expr");
     EXPECT_EQ(out(g).op, Op::Min);
-    EXPECT_EQ(eval(g, 0, 0, 0), -1.0);    // inside the unit sphere: sqrt(0) − 1
-    EXPECT_EQ(eval(g, 0, 0, -2), -1.5);   // below the plane z = −0.5
-    EXPECT_EQ(eval(g, 2, 2, 1), 1.5);     // min(3 − 1, 1.5)
+    EXPECT_EQ(eval(g, 0, 0, 0), -1.0);   // inside the unit sphere: sqrt(0) − 1
+    EXPECT_EQ(eval(g, 0, 0, -2), -1.5);  // below the plane z = −0.5
+    EXPECT_EQ(eval(g, 2, 2, 1), 1.5);    // min(3 − 1, 1.5)
 }
 
 TEST(Parser, LineContinuationInsideParentheses) {
@@ -200,7 +239,8 @@ TEST(Parser, ErrorsNameFileLineColumnAndWhatWasExpected) {
     EXPECT_EQ(error_of("x = 1\nx"), "t.expr:1:1: cannot bind 'x': the name is reserved");
     EXPECT_EQ(error_of("sqrt = 1\n2"), "t.expr:1:1: cannot bind 'sqrt': the name is reserved");
     EXPECT_EQ(error_of("a = a + 1\na"), "t.expr:1:5: undefined name 'a'");
-    EXPECT_EQ(error_of("b = c\nc = 1\nb"), "t.expr:1:5: undefined name 'c'");  // use before definition
+    EXPECT_EQ(error_of("b = c\nc = 1\nb"),
+              "t.expr:1:5: undefined name 'c'");  // use before definition
     EXPECT_EQ(error_of("min(x)"), "t.expr:1:1: 'min' takes 2 arguments, got 1");
     EXPECT_EQ(error_of("sqrt(x, y)"), "t.expr:1:1: 'sqrt' takes 1 argument, got 2");
     EXPECT_EQ(error_of("1 + sqrt x"), "t.expr:1:10: expected '(' after function 'sqrt', found 'x'");
@@ -208,18 +248,21 @@ TEST(Parser, ErrorsNameFileLineColumnAndWhatWasExpected) {
               "t.expr:1:3: expected a non-negative integer literal after '^', found '-'");
     EXPECT_EQ(error_of("x^1.5"),
               "t.expr:1:3: expected a non-negative integer literal after '^', found '1.5'");
-    EXPECT_EQ(error_of("x^2^3"), "t.expr:1:4: chained '^' is ambiguous; use parentheses, e.g. (x^2)^3");
+    EXPECT_EQ(error_of("x^2^3"),
+              "t.expr:1:4: chained '^' is ambiguous; use parentheses, e.g. (x^2)^3");
     EXPECT_EQ(error_of("x^99999999999"), "t.expr:1:3: exponent '99999999999' is too large");
     EXPECT_EQ(error_of("x @ y"), "t.expr:1:3: unexpected character '@'");
     EXPECT_EQ(error_of("2 x"), "t.expr:1:3: expected an operator or end of line, found 'x'");
     EXPECT_EQ(error_of("1e400"), "t.expr:1:1: number '1e400' is out of the range of double");
-    EXPECT_EQ(error_of("1e+"), "t.expr:1:2: malformed number '1e+': expected digits in the exponent");
+    EXPECT_EQ(error_of("1e+"),
+              "t.expr:1:2: malformed number '1e+': expected digits in the exponent");
     EXPECT_EQ(error_of("inf"), "t.expr:1:1: undefined name 'inf'");
     EXPECT_EQ(error_of("x * * y"), "t.expr:1:5: expected an expression, found '*'");
     EXPECT_EQ(error_of("+x"), "t.expr:1:1: expected an expression, found '+'");
     EXPECT_EQ(error_of("x )"), "t.expr:1:3: expected an operator or end of line, found ')'");
     EXPECT_EQ(error_of(""), "t.expr:1:1: expected an expression (the input is empty)");
-    EXPECT_EQ(error_of("# only a comment\n"), "t.expr:2:1: expected an expression (the input is empty)");
+    EXPECT_EQ(error_of("# only a comment\n"),
+              "t.expr:2:1: expected an expression (the input is empty)");
     EXPECT_EQ(error_of("a = x\n"),
               "t.expr:2:1: expected a final expression defining f after the bindings");
     EXPECT_EQ(error_of("x\ny\n"),
@@ -318,10 +361,9 @@ TEST(Printer, SharedNodesBecomeBindings) {
     const Graph g = parse_expr("a = sqrt(x + y)\na * a + a");
     const std::string text = print_expr(g);
     // Operands of + and * are in a canonical order that is arbitrary but fixed: accept either.
-    EXPECT_THAT(text, ::testing::AnyOf("t0 = sqrt(x + y)\nt0 * t0 + t0\n",
-                                       "t0 = sqrt(y + x)\nt0 * t0 + t0\n",
-                                       "t0 = sqrt(x + y)\nt0 + t0 * t0\n",
-                                       "t0 = sqrt(y + x)\nt0 + t0 * t0\n"));
+    EXPECT_THAT(text, ::testing::AnyOf(
+                          "t0 = sqrt(x + y)\nt0 * t0 + t0\n", "t0 = sqrt(y + x)\nt0 * t0 + t0\n",
+                          "t0 = sqrt(x + y)\nt0 + t0 * t0\n", "t0 = sqrt(y + x)\nt0 + t0 * t0\n"));
 }
 
 TEST(Printer, DeepChainsStayWithinTheNestingLimit) {

@@ -3,6 +3,9 @@
 // error path with its location.
 #include "expr/vm_import.h"
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,9 +14,6 @@
 #include <string>
 #include <unordered_map>
 #include <vector>
-
-#include <gmock/gmock.h>
-#include <gtest/gtest.h>
 
 #include "expr/input_error.h"
 #include "expr/parser.h"
@@ -41,25 +41,64 @@ double eval(const Graph& g, double x, double y, double z) {
         const double b = n.b.valid() ? v[n.b.value] : 0.0;
         double r = 0.0;
         switch (n.op) {
-            case Op::Const: r = n.constant; break;
-            case Op::VarX: r = x; break;
-            case Op::VarY: r = y; break;
-            case Op::VarZ: r = z; break;
-            case Op::Neg: r = -a; break;
-            case Op::Abs: r = std::fabs(a); break;
-            case Op::Square: r = a * a; break;
-            case Op::Sqrt: r = std::sqrt(a); break;
-            case Op::Exp: r = std::exp(a); break;
-            case Op::Log: r = std::log(a); break;
-            case Op::Sin: r = std::sin(a); break;
-            case Op::Cos: r = std::cos(a); break;
-            case Op::Add: r = a + b; break;
-            case Op::Sub: r = a - b; break;
-            case Op::Mul: r = a * b; break;
-            case Op::Div: r = a / b; break;
-            case Op::Min: r = std::fmin(a, b); break;
-            case Op::Max: r = std::fmax(a, b); break;
-            case Op::Pow: r = 1.0; for (std::uint32_t k = 0; k < n.exponent; ++k) r *= a; break;
+            case Op::Const:
+                r = n.constant;
+                break;
+            case Op::VarX:
+                r = x;
+                break;
+            case Op::VarY:
+                r = y;
+                break;
+            case Op::VarZ:
+                r = z;
+                break;
+            case Op::Neg:
+                r = -a;
+                break;
+            case Op::Abs:
+                r = std::fabs(a);
+                break;
+            case Op::Square:
+                r = a * a;
+                break;
+            case Op::Sqrt:
+                r = std::sqrt(a);
+                break;
+            case Op::Exp:
+                r = std::exp(a);
+                break;
+            case Op::Log:
+                r = std::log(a);
+                break;
+            case Op::Sin:
+                r = std::sin(a);
+                break;
+            case Op::Cos:
+                r = std::cos(a);
+                break;
+            case Op::Add:
+                r = a + b;
+                break;
+            case Op::Sub:
+                r = a - b;
+                break;
+            case Op::Mul:
+                r = a * b;
+                break;
+            case Op::Div:
+                r = a / b;
+                break;
+            case Op::Min:
+                r = std::fmin(a, b);
+                break;
+            case Op::Max:
+                r = std::fmax(a, b);
+                break;
+            case Op::Pow:
+                r = 1.0;
+                for (std::uint32_t k = 0; k < n.exponent; ++k) r *= a;
+                break;
         }
         v[id.value] = r;
     }
@@ -79,25 +118,44 @@ double interpret_vm(const std::string& text, double x, double y, double z) {
         if (!(ls >> id) || id[0] == '#') continue;
         ls >> op >> a >> b;
         double r = 0.0;
-        if (op == "var-x") r = x;
-        else if (op == "var-y") r = y;
-        else if (op == "var-z") r = z;
-        else if (op == "const") r = std::stod(a);
-        else if (op == "neg") r = -v.at(a);
-        else if (op == "abs") r = std::fabs(v.at(a));
-        else if (op == "sqrt") r = std::sqrt(v.at(a));
-        else if (op == "square") r = v.at(a) * v.at(a);
-        else if (op == "exp") r = std::exp(v.at(a));
-        else if (op == "ln") r = std::log(v.at(a));
-        else if (op == "sin") r = std::sin(v.at(a));
-        else if (op == "cos") r = std::cos(v.at(a));
-        else if (op == "add") r = v.at(a) + v.at(b);
-        else if (op == "sub") r = v.at(a) - v.at(b);
-        else if (op == "mul") r = v.at(a) * v.at(b);
-        else if (op == "div") r = v.at(a) / v.at(b);
-        else if (op == "min") r = std::fmin(v.at(a), v.at(b));
-        else if (op == "max") r = std::fmax(v.at(a), v.at(b));
-        else ADD_FAILURE() << "test interpreter: unknown op " << op;
+        if (op == "var-x")
+            r = x;
+        else if (op == "var-y")
+            r = y;
+        else if (op == "var-z")
+            r = z;
+        else if (op == "const")
+            r = std::stod(a);
+        else if (op == "neg")
+            r = -v.at(a);
+        else if (op == "abs")
+            r = std::fabs(v.at(a));
+        else if (op == "sqrt")
+            r = std::sqrt(v.at(a));
+        else if (op == "square")
+            r = v.at(a) * v.at(a);
+        else if (op == "exp")
+            r = std::exp(v.at(a));
+        else if (op == "ln")
+            r = std::log(v.at(a));
+        else if (op == "sin")
+            r = std::sin(v.at(a));
+        else if (op == "cos")
+            r = std::cos(v.at(a));
+        else if (op == "add")
+            r = v.at(a) + v.at(b);
+        else if (op == "sub")
+            r = v.at(a) - v.at(b);
+        else if (op == "mul")
+            r = v.at(a) * v.at(b);
+        else if (op == "div")
+            r = v.at(a) / v.at(b);
+        else if (op == "min")
+            r = std::fmin(v.at(a), v.at(b));
+        else if (op == "max")
+            r = std::fmax(v.at(a), v.at(b));
+        else
+            ADD_FAILURE() << "test interpreter: unknown op " << op;
         v[id] = r;
         last = r;
     }
@@ -175,7 +233,8 @@ double barth(double x, double y, double z) {
     return 4.0 * (p2 * x2 - y2) * (p2 * y2 - z2) * (p2 * z2 - x2) - (1.0 + 2.0 * p) * s * s;
 }
 double tanglecube(double x, double y, double z) {
-    return std::pow(x, 4) - 5 * x * x + std::pow(y, 4) - 5 * y * y + std::pow(z, 4) - 5 * z * z + 10;
+    return std::pow(x, 4) - 5 * x * x + std::pow(y, 4) - 5 * y * y + std::pow(z, 4) - 5 * z * z +
+           10;
 }
 double tangle_knoll(double x, double y, double z) { return tanglecube(x, y, z) + 1.8; }
 double steiner(double x, double y, double z) {
@@ -186,21 +245,25 @@ double mitchell(double x, double y, double z) {
     return 4 * (x2 * x2 + r * r) + 17 * x2 * r - 20 * (x2 + r) + 17;
 }
 double chebyshev6(double t) { return 32 * std::pow(t, 6) - 48 * std::pow(t, 4) + 18 * t * t - 1; }
-double chmutov(double x, double y, double z) { return chebyshev6(x) + chebyshev6(y) + chebyshev6(z); }
+double chmutov(double x, double y, double z) {
+    return chebyshev6(x) + chebyshev6(y) + chebyshev6(z);
+}
 double clebsch(double x, double y, double z) {
     const double x2 = x * x, y2 = y * y, z2 = z * z;
     return 81 * (x2 * x + y2 * y + z2 * z) -
            189 * (x2 * y + x2 * z + y2 * x + y2 * z + z2 * x + z2 * y) + 54 * x * y * z +
            126 * (x * y + x * z + y * z) - 9 * (x2 + y2 + z2) - 9 * (x + y + z) + 1;
 }
-double quarter(double x, double y, double) { return std::fmax(std::fmax(x, y), x * x + y * y - 0.5); }
+double quarter(double x, double y, double) {
+    return std::fmax(std::fmax(x, y), x * x + y * y - 0.5);
+}
 
 TEST(VmImport, ModelsMatchTheirClosedFormFormulas) {
     const ClosedForm forms[] = {
-        {"algebraic/barth_sextic.vm", barth},   {"tanglecube.vm", tanglecube},
+        {"algebraic/barth_sextic.vm", barth},        {"tanglecube.vm", tanglecube},
         {"algebraic/tangle_knoll.vm", tangle_knoll}, {"algebraic/steiner_roman.vm", steiner},
-        {"algebraic/mitchell.vm", mitchell},    {"algebraic/chmutov6.vm", chmutov},
-        {"algebraic/clebsch_cubic.vm", clebsch}, {"quarter.vm", quarter},
+        {"algebraic/mitchell.vm", mitchell},         {"algebraic/chmutov6.vm", chmutov},
+        {"algebraic/clebsch_cubic.vm", clebsch},     {"quarter.vm", quarter},
     };
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> u(-1.5, 1.5);
@@ -224,10 +287,10 @@ TEST(VmImport, CommentsBlankLinesAndSharing) {
         "# header\n"
         "\n"
         "   a var-x   # trailing comment\n"
-        "b var-x\n"         // the same node as a
+        "b var-x\n"  // the same node as a
         "c const -2.5\n"
         "d mul a c\n"
-        "e mul c b\n"       // the same node as d (commutative)
+        "e mul c b\n"  // the same node as d (commutative)
         "f sub d e\n",
         "t.vm");
     const Node& f = g.node(g.output());
@@ -235,7 +298,7 @@ TEST(VmImport, CommentsBlankLinesAndSharing) {
     EXPECT_EQ(f.a, f.b);
     EXPECT_EQ(g.size(), 4u);  // x, −2.5, mul, sub
     EXPECT_EQ(g.node(g.node(f.a).b).op == Op::Const ? g.node(g.node(f.a).b).constant
-                                                     : g.node(g.node(f.a).a).constant,
+                                                    : g.node(g.node(f.a).a).constant,
               -2.5);
 }
 
@@ -249,7 +312,8 @@ TEST(VmImport, ErrorsNameLineColumnAndCause) {
               "t.vm:2:11: undefined id '_2' (arguments must name ids defined on earlier lines)");
     EXPECT_EQ(error_of("_0 add _1 _1\n_1 add _0 _0\n"),  // a cycle
               "t.vm:1:8: undefined id '_1' (arguments must name ids defined on earlier lines)");
-    EXPECT_EQ(error_of("_0 var-x\n_0 var-y\n"), "t.vm:2:1: duplicate id '_0' (first defined at line 1)");
+    EXPECT_EQ(error_of("_0 var-x\n_0 var-y\n"),
+              "t.vm:2:1: duplicate id '_0' (first defined at line 1)");
     EXPECT_EQ(error_of("_0 var-x\n_1 add _0\n"), "t.vm:2:4: 'add' takes 2 arguments, got 1");
     EXPECT_EQ(error_of("_0 var-x 3\n"), "t.vm:1:10: 'var-x' takes 0 arguments, got 1");
     EXPECT_EQ(error_of("_0 var-x\n_1 neg _0 _0\n"), "t.vm:2:11: 'neg' takes 1 argument, got 2");
@@ -259,9 +323,11 @@ TEST(VmImport, ErrorsNameLineColumnAndCause) {
     EXPECT_EQ(error_of("_0 const inf\n"), "t.vm:1:10: malformed number 'inf'");
     EXPECT_EQ(error_of("_0 const 0x10\n"), "t.vm:1:10: malformed number '0x10'");
     EXPECT_EQ(error_of("_0 const 1.5.2\n"), "t.vm:1:10: malformed number '1.5.2'");
-    EXPECT_EQ(error_of("_0 const 1e999\n"), "t.vm:1:10: number '1e999' is out of the range of double");
+    EXPECT_EQ(error_of("_0 const 1e999\n"),
+              "t.vm:1:10: number '1e999' is out of the range of double");
     EXPECT_EQ(error_of("_0\n"), "t.vm:1:3: expected an opcode after id '_0'");
-    EXPECT_EQ(error_of("# nothing\n\n"), "t.vm: no instructions: expected '<id> <opcode> [args]' lines");
+    EXPECT_EQ(error_of("# nothing\n\n"),
+              "t.vm: no instructions: expected '<id> <opcode> [args]' lines");
     EXPECT_THAT(error_of("_0 var-x\n_1 const 1\n_2 compare _0 _1\n"),
                 HasSubstr("t.vm:3:4: unsupported opcode 'compare'"));
 }

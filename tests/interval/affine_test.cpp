@@ -27,6 +27,11 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Exponents of the terms span at most 2^1026 … 2^−2148: 3400 bits hold every point exactly.
 constexpr mpfr_prec_t kPointBits = 3400;
+/// Work per RapidCheck case (ctest runs 2000 cases per property through RC_PARAMS).
+constexpr int kBoxesPerCase = 2;
+constexpr int kPointsPerBox = 4;
+/// Precision of transcendental values (the MPFR oracle's 256 bits).
+constexpr mpfr_prec_t kValueBits = 256;
 
 using A1 = Affine<1>;
 /// Values of the primary symbols (non-deduced, so that N comes from the Affine<N> argument).
@@ -131,14 +136,24 @@ Big abs(const Big& a) {
     return r;
 }
 Big square(const Big& a) { return abs(a) * abs(a); }
+/// dst = f(src) rounded in direction `rnd` to kValueBits (cheaper than kPointBits, still exact
+/// enough: the bound is then stored exactly).
+template <class F>
+void rounded(F f, mpfr_ptr dst, mpfr_srcptr src, mpfr_rnd_t rnd) {
+    mpfr_t t;
+    mpfr_init2(t, kValueBits);
+    f(t, src, rnd);
+    mpfr_set(dst, t, rnd);
+    mpfr_clear(t);
+}
 /// Increasing f on the domain lo > bound (or ≥ when closed): [f(lo) ↓, f(hi) ↑].
 template <class F>
 Big increasing(const Big& a, F f, bool valid) {
     Big r(a);
     r.valid = a.valid && valid;
     if (!r.valid) return r;
-    f(r.lo, a.lo, MPFR_RNDD);
-    f(r.hi, a.hi, MPFR_RNDU);
+    rounded(f, r.lo, a.lo, MPFR_RNDD);
+    rounded(f, r.hi, a.hi, MPFR_RNDU);
     return r;
 }
 Big sqrt(const Big& a) { return increasing(a, mpfr_sqrt, mpfr_sgn(a.lo) >= 0); }
@@ -176,8 +191,8 @@ Big lipschitz(const Big& a, F f) {
     mpfr_t w;
     mpfr_init2(w, kPointBits);
     mpfr_sub(w, a.hi, a.lo, MPFR_RNDU);
-    f(r.lo, a.lo, MPFR_RNDD);
-    f(r.hi, a.lo, MPFR_RNDU);
+    rounded(f, r.lo, a.lo, MPFR_RNDD);
+    rounded(f, r.hi, a.lo, MPFR_RNDU);
     mpfr_sub(r.lo, r.lo, w, MPFR_RNDD);
     mpfr_add(r.hi, r.hi, w, MPFR_RNDU);
     if (mpfr_cmp_si(r.lo, -1) < 0) mpfr_set_si(r.lo, -1, MPFR_RNDD);
@@ -244,18 +259,18 @@ bool pointwise(const Affine<N>& z, const Symbols<N>& eps, const Big& v) {
     return mpfr_lessequal_p(lo.lo, v.lo) && mpfr_lessequal_p(v.hi, hi.hi);
 }
 
-/// op(x̂) for x̂ = variable(box): at 6 random values of x̂, for 4 random boxes, the exact value
+/// op(x̂) for x̂ = variable(box): at kPointsPerBox random values of x̂, for kBoxesPerCase random boxes, the exact value
 /// lies in to_interval() and in the result form at the same symbols.
 template <class Op>
 void check_unary(Op op) {
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < kBoxesPerCase; ++k) {
         const auto [lo, hi] = *testing::gen_bounds();
         const Interval box(lo, hi);
         const A1 x = A1::variable(box, 0);
         RC_ASSERT(contains(x.to_interval(), box));
         const A1 z = op(x);
         const Interval r = z.to_interval();
-        for (int j = 0; j < 6; ++j) {
+        for (int j = 0; j < kPointsPerBox; ++j) {
             const auto eps = gen_symbols<1>();
             const Big v = op(gen_value(x, box, eps));
             if (!v.valid) continue;
@@ -269,14 +284,14 @@ void check_unary(Op op) {
 
 template <class Op>
 void check_binary(Op op) {
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < kBoxesPerCase; ++k) {
         const auto [alo, ahi] = *testing::gen_bounds();
         const auto [blo, bhi] = *testing::gen_bounds();
         const Interval a(alo, ahi), b(blo, bhi);
         const A2 x = A2::variable(a, 0), y = A2::variable(b, 1);
         const A2 z = op(x, y);
         const Interval r = z.to_interval();
-        for (int j = 0; j < 6; ++j) {
+        for (int j = 0; j < kPointsPerBox; ++j) {
             const auto eps = gen_symbols<2>();
             const Big v = op(gen_value(x, a, eps), gen_value(y, b, eps));
             if (!v.valid) continue;
@@ -357,7 +372,7 @@ RC_GTEST_PROP(AffineContains, RandomChains, ()) {
     };
     const A1 z = apply(x);
     const Interval r = z.to_interval();
-    for (int j = 0; j < 6; ++j) {
+    for (int j = 0; j < kPointsPerBox; ++j) {
         const auto eps = gen_symbols<1>();
         const Big v = apply(gen_value(x, box, eps));
         if (v.valid && (!inside(r, v) || !pointwise(z, eps, v))) {
@@ -442,7 +457,7 @@ RC_GTEST_PROP(AffineSphere, ContainsAndIsAsTightAsIntervalOnSmallBoxes, ()) {
     RC_ASSERT(f.defined);
     const Interval iv = sphere(q.box[0], q.box[1], q.box[2]);
     RC_ASSERT(width(r) <= 1.01 * width(iv));
-    for (int j = 0; j < 6; ++j) {
+    for (int j = 0; j < kPointsPerBox; ++j) {
         const auto e = gen_symbols<3>();
         const Big v = sphere(point_of<3>(x, e, *gen_eps()), point_of<3>(y, e, *gen_eps()),
                              point_of<3>(z, e, *gen_eps()));

@@ -2,14 +2,14 @@
 // decoration, and RapidCheck properties against the MPFR oracle at 256 bits.
 #include "interval/interval.h"
 
+#include <gtest/gtest.h>
+#include <mpfr.h>
+#include <rapidcheck/gtest.h>
+
 #include <cfenv>
 #include <cmath>
 #include <limits>
 #include <utility>
-
-#include <gtest/gtest.h>
-#include <mpfr.h>
-#include <rapidcheck/gtest.h>
 
 #include "interval/mpfr_interval.h"
 #include "tests/support/generators.h"
@@ -206,14 +206,14 @@ void check_binary(IntervalOp iop, MpfrOp mop) {
     if (!r.is_empty()) RC_ASSERT(f.lower() == r.lower() && f.upper() == r.upper());
 }
 
-#define CERTRAY_UNARY_PROP(name, expr)                                                  \
-    RC_GTEST_PROP(IntervalProperty, name, ()) {                                         \
+#define CERTRAY_UNARY_PROP(name, expr)                                                        \
+    RC_GTEST_PROP(IntervalProperty, name, ()) {                                               \
         check_unary([](auto x) { return expr; }, [](const MpfrInterval& x) { return expr; }); \
     }
-#define CERTRAY_BINARY_PROP(name, expr)                                                      \
-    RC_GTEST_PROP(IntervalProperty, name, ()) {                                              \
-        check_binary([](auto x, auto y) { return expr; },                                    \
-                     [](const MpfrInterval& x, const MpfrInterval& y) { return expr; });     \
+#define CERTRAY_BINARY_PROP(name, expr)                                                  \
+    RC_GTEST_PROP(IntervalProperty, name, ()) {                                          \
+        check_binary([](auto x, auto y) { return expr; },                                \
+                     [](const MpfrInterval& x, const MpfrInterval& y) { return expr; }); \
     }
 
 CERTRAY_UNARY_PROP(Neg, -x)
@@ -229,13 +229,14 @@ CERTRAY_UNARY_PROP(Sin, sin(x))
 CERTRAY_UNARY_PROP(Cos, cos(x))
 CERTRAY_BINARY_PROP(Add, x + y)
 CERTRAY_BINARY_PROP(Sub, x - y)
-CERTRAY_BINARY_PROP(Mul, x * y)
+CERTRAY_BINARY_PROP(Mul, x* y)
 CERTRAY_BINARY_PROP(Div, x / y)
 CERTRAY_BINARY_PROP(Min, min(x, y))
 CERTRAY_BINARY_PROP(Max, max(x, y))
 
 // Composite: the decoration of a whole expression, and containment through several roundings.
-CERTRAY_BINARY_PROP(Composite, sqrt(square(x) + square(y)) - exp(sin(x) * cos(y)) / (abs(y) + one(y)))
+CERTRAY_BINARY_PROP(Composite,
+                    sqrt(square(x) + square(y)) - exp(sin(x) * cos(y)) / (abs(y) + one(y)))
 
 }  // namespace
 }  // namespace certray

@@ -7,6 +7,8 @@
 // printed, never asserted: interval.h widens exp/log/sin/cos by kTranscUlps ulps on purpose.
 // Data: tests/data/itf1788/README.md, tests/data/crlibm/README.md (copied with their licences).
 // IEEE 1788 semantics: -0 and +0 are equal as bounds (plain double comparison does exactly that).
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -18,8 +20,6 @@
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "interval/interval.h"
 
 namespace certray {
@@ -27,7 +27,8 @@ namespace {
 
 const std::string kDataDir = CERTRAY_TEST_DATA;
 
-// ---- TSV reading ---------------------------------------------------------------------------------
+// ---- TSV reading
+// ---------------------------------------------------------------------------------
 
 /// One data row: its fields by column name and its 1-based line in the TSV file.
 struct Row {
@@ -98,7 +99,8 @@ std::string show(const Interval& x) {
     return os.str();
 }
 
-// ---- ITF1788 -------------------------------------------------------------------------------------
+// ---- ITF1788
+// -------------------------------------------------------------------------------------
 
 /// A literal from a row: an interval (empty/entire included) or NaI.
 struct Literal {
@@ -126,7 +128,8 @@ Literal parse_interval(const Row& row, const std::string& prefix) {
         lit.value = Interval(l, h);
     }
     // A decorated input: com/dac say defined and continuous on the box, def/trv do not.
-    if (!lit.dec.empty()) lit.value.defined = !lit.value.is_empty() && (lit.dec == "com" || lit.dec == "dac");
+    if (!lit.dec.empty())
+        lit.value.defined = !lit.value.is_empty() && (lit.dec == "com" || lit.dec == "dac");
     return lit;
 }
 
@@ -233,8 +236,9 @@ TEST_P(Itf1788Test, BareRowsAreContained) {
         ++t.checked;
         const Interval& e = expected.value;
         const bool sound = contains(ours, e) && !(ours.is_empty() && !e.is_empty());
-        const bool tight = ours.is_empty() == e.is_empty() &&
-                           (e.is_empty() || (ours.lower() == e.lower() && ours.upper() == e.upper()));
+        const bool tight =
+            ours.is_empty() == e.is_empty() &&
+            (e.is_empty() || (ours.lower() == e.lower() && ours.upper() == e.upper()));
         if (tight) ++t.tight;
         if (!sound) {
             ++t.failures;
@@ -242,9 +246,9 @@ TEST_P(Itf1788Test, BareRowsAreContained) {
                           << inputs << "\n  expected " << show(e) << "\n  ours     " << show(ours);
         }
     }
-    std::cout << "[itf1788] " << std::setw(5) << op.name << ": " << t.checked << " bare rows checked ("
-              << t.skipped << " skipped: decorated/NaI/negative n), " << t.failures
-              << " unsound, tight " << t.tight << "/" << t.checked << " = "
+    std::cout << "[itf1788] " << std::setw(5) << op.name << ": " << t.checked
+              << " bare rows checked (" << t.skipped << " skipped: decorated/NaI/negative n), "
+              << t.failures << " unsound, tight " << t.tight << "/" << t.checked << " = "
               << percent(t.tight, t.checked) << "\n";
     RecordProperty("checked", t.checked);
     RecordProperty("failures", t.failures);
@@ -290,7 +294,8 @@ TEST_P(Itf1788Test, DecoratedRowsMapToDefined) {
 INSTANTIATE_TEST_SUITE_P(Ops, Itf1788Test, testing::ValuesIn(itf1788_ops()),
                          [](const testing::TestParamInfo<Itf1788Op>& p) { return p.param.name; });
 
-// ---- crlibm --------------------------------------------------------------------------------------
+// ---- crlibm
+// --------------------------------------------------------------------------------------
 
 struct CrlibmFunc {
     std::string name;
@@ -330,12 +335,13 @@ TEST_P(CrlibmTest, PointValuesAreContained) {
         if (!contains(ours, v)) {
             ++t.failures;
             ADD_FAILURE() << "unsound " << f.name << " at " << path << ":" << row.line << " ("
-                          << row["comment"] << ")\n  x        " << hex(x) << "\n  expected "
-                          << mode << " " << hex(v) << "\n  ours     " << show(ours);
+                          << row["comment"] << ")\n  x        " << hex(x) << "\n  expected " << mode
+                          << " " << hex(v) << "\n  ours     " << show(ours);
         }
         if (mode == "RD" || mode == "RU") {
             ++directed;
-            if ((mode == "RD" && ours.lower() == v) || (mode == "RU" && ours.upper() == v)) ++t.tight;
+            if ((mode == "RD" && ours.lower() == v) || (mode == "RU" && ours.upper() == v))
+                ++t.tight;
         }
     }
     std::cout << "[crlibm] " << std::setw(3) << f.name << ": " << t.checked << " rows checked ("
@@ -349,8 +355,10 @@ TEST_P(CrlibmTest, PointValuesAreContained) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Funcs, CrlibmTest,
-                         testing::Values(CrlibmFunc{"exp", crlibm_exp}, CrlibmFunc{"log", crlibm_log},
-                                         CrlibmFunc{"sin", crlibm_sin}, CrlibmFunc{"cos", crlibm_cos}),
+                         testing::Values(CrlibmFunc{"exp", crlibm_exp},
+                                         CrlibmFunc{"log", crlibm_log},
+                                         CrlibmFunc{"sin", crlibm_sin},
+                                         CrlibmFunc{"cos", crlibm_cos}),
                          [](const testing::TestParamInfo<CrlibmFunc>& p) { return p.param.name; });
 
 /// Prints the overall counts once every test has run.

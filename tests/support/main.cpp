@@ -1,7 +1,8 @@
-// tests/support/main.cpp — the test main: GoogleTest, with the rounding mode checked after every test.
-#include <cfenv>
-
+// tests/support/main.cpp — the test main: GoogleTest, with the rounding mode checked after every
+// test.
 #include <gtest/gtest.h>
+
+#include <cfenv>
 
 namespace {
 

@@ -4,11 +4,11 @@
 // constants include extreme magnitudes; the depth stays at most kMaxDepth.
 #pragma once
 
+#include <rapidcheck.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <vector>
-
-#include <rapidcheck.h>
 
 #include "expr/graph.h"
 #include "expr/op.h"
@@ -46,8 +46,9 @@ inline rc::Gen<expr::Graph> gen_dag(int max_ops = 24) {
         }
         const int ops = *rc::gen::inRange(1, max_ops);
         static const std::vector<Op> kUnary = {Op::Neg, Op::Abs, Op::Square, Op::Sqrt, Op::Exp,
-                                        Op::Log, Op::Sin, Op::Cos, Op::Pow};
-        static const std::vector<Op> kBinary = {Op::Add, Op::Sub, Op::Mul, Op::Div, Op::Min, Op::Max};
+                                               Op::Log, Op::Sin, Op::Cos,    Op::Pow};
+        static const std::vector<Op> kBinary = {Op::Add, Op::Sub, Op::Mul,
+                                                Op::Div, Op::Min, Op::Max};
         for (int i = 0; i < ops; ++i) {
             // Prefer recent nodes so the output depends on most of the graph.
             auto pick = [&] {
@@ -59,9 +60,8 @@ inline rc::Gen<expr::Graph> gen_dag(int max_ops = 24) {
             if (*rc::gen::inRange(0, 3) == 0) {
                 const Op op = *rc::gen::elementOf(kUnary);
                 if (depth[a] + 1 > kMaxDepth) continue;
-                const expr::NodeId id = op == Op::Pow
-                                            ? g.pow(nodes[a], *rc::gen::inRange(0u, 6u))
-                                            : g.unary(op, nodes[a]);
+                const expr::NodeId id = op == Op::Pow ? g.pow(nodes[a], *rc::gen::inRange(0u, 6u))
+                                                      : g.unary(op, nodes[a]);
                 add(id, depth[a] + 1);
             } else {
                 const int b = pick();

@@ -1,0 +1,486 @@
+// bench/eval_bench.cpp — the cost of evaluating a tape, per number type and per scene (Google Benchmark).
+//
+// Scenes: unit sphere, torus (R = 1, r = 0.25), Barth sextic (.vm), a union of 1,001 spheres (the
+// "molecule" of the Lipschitz-pruning paper, read from its JSON; a deterministic 1,000-sphere union
+// when the file is absent) and prospero (.vm, 2D). Measured in one process:
+// (a) `batch/<scene>`: Evaluator<Batch> over 256 points (4 walks of 64 lanes); `double/<scene>`:
+//     Evaluator<double> point by point; `native/<scene>`: the same function hand-written in C++
+//     and compiled with the same flags (not for prospero);
+// (b) `interval/<scene>`, `dual/<scene>`, `idual/<scene>`: Evaluator<Interval> on boxes of side
+//     2e-3, Evaluator<Dual<double,3>> at points, Evaluator<Dual<Interval,3>> on the boxes;
+// (c) after the benchmarks, outside Google Benchmark: prune() on boxes of decreasing side around a
+//     point of the surface, with the tape lengths and the CPU time of one interval evaluation of
+//     the full and the pruned tape.
+// The custom main prints the tables (CPU time; ratios from times of this process).
+// Results and the command that produced them: docs/benchmarks.md, "Expression evaluation (issue 3)".
+#include <benchmark/benchmark.h>
+#include <nlohmann/json.hpp>
+#include <time.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+// eval.h and derived.h before builder.h: builder.h declares expr::min, sqrt, … which, seen first,
+// would hide certray::min(double, double) etc. from the unqualified calls in detail::run.
+#include "expr/derived.h"
+#include "expr/eval.h"
+#include "interval/batch.h"
+#include "interval/dual.h"
+#include "interval/interval.h"
+
+#include "expr/builder.h"
+#include "expr/load.h"
+#include "expr/prune.h"
+#include "expr/tape.h"
+
+namespace certray {
+namespace {
+
+using expr::Evaluator;
+using expr::Tape;
+
+constexpr int kPoints = 256;       // points per pass of batch/double/native
+constexpr int kBoxes = 64;         // points or boxes per pass of interval/dual/idual
+constexpr double kHalfBox = 1e-3;  // half side of the small boxes of (b)
+
+/// A hand-written f over arrays of points: out[i] = f(x[i], y[i], z[i]).
+using Native = void (*)(const double*, const double*, const double*, double*, int);
+
+struct Scene {
+    std::string name;
+    Tape tape;
+    bool planar = false;  ///< 2D: z = 0
+    double lo = -1, hi = 1;  ///< sampling cube (square when planar)
+    Native native = nullptr;
+    std::array<double, 3> surface{};  ///< a point on (or within 1e-15 of) f = 0
+};
+
+// ---- hand-written functions ----------------------------------------------------------------------
+
+__attribute__((noinline)) void native_sphere(const double* x, const double* y, const double* z,
+                                             double* out, int n) {
+    for (int i = 0; i < n; ++i) out[i] = std::sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i]) - 1.0;
+}
+
+__attribute__((noinline)) void native_torus(const double* x, const double* y, const double* z,
+                                            double* out, int n) {
+    for (int i = 0; i < n; ++i) {
+        const double q = std::sqrt(x[i] * x[i] + y[i] * y[i]) - 1.0;
+        out[i] = std::sqrt(q * q + z[i] * z[i]) - 0.25;
+    }
+}
+
+__attribute__((noinline)) void native_barth(const double* x, const double* y, const double* z,
+                                            double* out, int n) {
+    constexpr double p2 = 2.618033988749895, c = 4.23606797749979;
+    for (int i = 0; i < n; ++i) {
+        const double x2 = x[i] * x[i], y2 = y[i] * y[i], z2 = z[i] * z[i];
+        const double s = x2 + y2 + z2 - 1.0;
+        out[i] = 4.0 * (p2 * x2 - y2) * (p2 * y2 - z2) * (p2 * z2 - x2) - c * (s * s);
+    }
+}
+
+struct Spheres {
+    std::vector<double> cx, cy, cz, r;
+};
+Spheres g_molecule;
+
+/// Sphere-outer, point-inner: the inner loop runs over the points and vectorises, as the batch
+/// evaluator does (the point-outer order would be a scalar min reduction).
+__attribute__((noinline)) void native_molecule(const double* x, const double* y, const double* z,
+                                               double* out, int n) {
+    const Spheres& s = g_molecule;
+    for (int i = 0; i < n; ++i) out[i] = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < s.r.size(); ++k) {
+        const double cx = s.cx[k], cy = s.cy[k], cz = s.cz[k], r = s.r[k];
+        for (int i = 0; i < n; ++i) {
+            const double dx = x[i] - cx, dy = y[i] - cy, dz = z[i] - cz;
+            out[i] = min(out[i], std::sqrt(dx * dx + dy * dy + dz * dz) - r);
+        }
+    }
+}
+
+// ---- scenes --------------------------------------------------------------------------------------
+
+Tape sphere_tape() {
+    expr::Graph g;
+    auto [x, y, z] = expr::vars(g);
+    g.set_output((sqrt(x * x + y * y + z * z) - 1.0).id);
+    return Tape(g);
+}
+
+Tape torus_tape() {
+    expr::Graph g;
+    auto [x, y, z] = expr::vars(g);
+    auto q = sqrt(x * x + y * y) - 1.0;
+    g.set_output((sqrt(q * q + z * z) - 0.25).id);
+    return Tape(g);
+}
+
+/// The molecule's spheres: primitives of type "sphere" under "union" operators whose matrices
+/// are the identity; a primitive's centre is its matrix's translation column (mirrored if the file
+/// stores the inverse transform — no timing depends on it). The file's unions carry a blend
+/// radius (a smooth union); here the union is the plain min. Returns false if the file is absent
+/// or holds anything else.
+bool read_molecule(const std::string& path, Spheres& out) {
+    std::ifstream in(path);
+    if (!in) return false;
+    const nlohmann::json doc = nlohmann::json::parse(in);
+    std::vector<const nlohmann::json*> stack{&doc};  // explicit stack: the tree is 1,000 deep
+    while (!stack.empty()) {
+        const nlohmann::json& n = *stack.back();
+        stack.pop_back();
+        const auto& m = n.at("matrix");
+        if (n.at("nodeType") == "binaryOperator") {
+            if (n.at("blendMode") != "union") return false;
+            for (int k = 0; k < 12; ++k) {
+                if (m[k].get<double>() != ((k % 5 == 0) ? 1.0 : 0.0)) return false;
+            }
+            stack.push_back(&n.at("rightChild"));
+            stack.push_back(&n.at("leftChild"));
+        } else {
+            if (n.at("primitiveType") != "sphere") return false;
+            for (int k : {0, 1, 2, 4, 5, 6, 8, 9, 10}) {
+                if (m[k].get<double>() != ((k % 5 == 0) ? 1.0 : 0.0)) return false;
+            }
+            out.cx.push_back(m[3].get<double>());
+            out.cy.push_back(m[7].get<double>());
+            out.cz.push_back(m[11].get<double>());
+            out.r.push_back(n.at("radius").get<double>());
+        }
+    }
+    return true;
+}
+
+/// 1,000 spheres at deterministic pseudo-random centres in [-0.9, 0.9]³, radii in [0.02, 0.06].
+void generate_molecule(Spheres& out) {
+    std::mt19937_64 rng(20261123);
+    std::uniform_real_distribution<double> c(-0.9, 0.9), r(0.02, 0.06);
+    for (int k = 0; k < 1000; ++k) {
+        out.cx.push_back(c(rng));
+        out.cy.push_back(c(rng));
+        out.cz.push_back(c(rng));
+        out.r.push_back(r(rng));
+    }
+}
+
+Tape molecule_tape(const Spheres& s) {
+    expr::Graph g;
+    auto [x, y, z] = expr::vars(g);
+    expr::Expr f{};
+    for (std::size_t k = 0; k < s.r.size(); ++k) {
+        auto d = sqrt(square(x - s.cx[k]) + square(y - s.cy[k]) + square(z - s.cz[k])) - s.r[k];
+        f = (k == 0) ? d : min(f, d);
+    }
+    g.set_output(f.id);
+    return Tape(g);
+}
+
+/// A point where f changes sign on the segment a→b (first change of 4,096 samples, then 80
+/// bisections); a if there is none.
+std::array<double, 3> surface_point(const Tape& t, std::array<double, 3> a, std::array<double, 3> b) {
+    Evaluator<double> e;
+    auto at = [&](double s) {
+        return std::array<double, 3>{a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]),
+                                     a[2] + s * (b[2] - a[2])};
+    };
+    double s0 = 0, f0 = e(t, at(0));
+    for (int k = 1; k <= 4096; ++k) {
+        const double s1 = k / 4096.0, f1 = e(t, at(s1));
+        if ((f0 < 0) != (f1 < 0)) {
+            double l = s0, h = s1;
+            for (int it = 0; it < 80; ++it) {
+                const double m = 0.5 * (l + h);
+                if ((e(t, at(m)) < 0) == (f0 < 0)) l = m; else h = m;
+            }
+            return at(l);
+        }
+        s0 = s1;
+        f0 = f1;
+    }
+    return a;
+}
+
+std::vector<Scene> g_scenes;
+std::string g_molecule_source;
+
+void make_scenes() {
+    const std::string data = CERTRAY_SOURCE_DIR "/tests/data/models/";
+    g_scenes.push_back({"sphere", sphere_tape(), false, -1.5, 1.5, native_sphere, {0.6, 0.48, 0.64}});
+    g_scenes.push_back({"torus", torus_tape(), false, -1.5, 1.5, native_torus, {0.8, 0.6, 0.25}});
+    {
+        Scene s{"barth", Tape(expr::load_graph_file(data + "algebraic/barth_sextic.vm")), false,
+                -2.0, 2.0, native_barth, {}};
+        s.surface = surface_point(s.tape, {0, 0, 0}, {0.6, 1.0, 1.6});
+        g_scenes.push_back(std::move(s));
+    }
+    if (read_molecule(CERTRAY_MOLECULE_JSON, g_molecule)) {
+        g_molecule_source = CERTRAY_MOLECULE_JSON;
+    } else {
+        g_molecule = Spheres{};
+        generate_molecule(g_molecule);
+        g_molecule_source = "generated (seed 20261123)";
+    }
+    {
+        Scene s{"molecule", molecule_tape(g_molecule), false, -1.0, 1.0, native_molecule, {}};
+        const auto& m = g_molecule;
+        s.surface = surface_point(s.tape, {m.cx[0], m.cy[0], m.cz[0]},
+                                  {m.cx[0] + 1.0, m.cy[0], m.cz[0]});
+        g_scenes.push_back(std::move(s));
+    }
+    {
+        Scene s{"prospero", Tape(expr::load_graph_file(data + "prospero.vm")), true, -1.0, 1.0,
+                nullptr, {}};
+        s.surface = surface_point(s.tape, {-1.0, 0.1, 0}, {1.0, 0.1, 0});
+        g_scenes.push_back(std::move(s));
+    }
+}
+
+// ---- inputs --------------------------------------------------------------------------------------
+
+struct Inputs {
+    std::vector<double> x, y, z;            // kPoints points
+    std::vector<std::array<Batch, 3>> batches;  // the same points, 64 per batch
+};
+
+Inputs make_inputs(const Scene& s) {
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(s.lo, s.hi);
+    Inputs in;
+    for (int i = 0; i < kPoints; ++i) {
+        in.x.push_back(u(rng));
+        in.y.push_back(u(rng));
+        in.z.push_back(s.planar ? 0.0 : u(rng));
+    }
+    for (int b = 0; b < kPoints / kBatch; ++b) {
+        std::array<Batch, 3> p;
+        for (int i = 0; i < kBatch; ++i) {
+            p[0][i] = in.x[b * kBatch + i];
+            p[1][i] = in.y[b * kBatch + i];
+            p[2][i] = in.z[b * kBatch + i];
+        }
+        in.batches.push_back(p);
+    }
+    return in;
+}
+
+Interval around(double v, bool zero) { return zero ? Interval(0.0) : Interval(v - kHalfBox, v + kHalfBox); }
+
+// ---- benchmarks ----------------------------------------------------------------------------------
+
+void bm_batch(benchmark::State& state, const Scene* s) {
+    const Inputs in = make_inputs(*s);
+    Evaluator<Batch> e;
+    for (auto _ : state) {
+        for (const auto& p : in.batches) {
+            Batch r = e(s->tape, p);
+            benchmark::DoNotOptimize(r);
+        }
+    }
+}
+
+void bm_double(benchmark::State& state, const Scene* s) {
+    const Inputs in = make_inputs(*s);
+    Evaluator<double> e;
+    for (auto _ : state) {
+        for (int i = 0; i < kPoints; ++i) {
+            double r = e(s->tape, {in.x[i], in.y[i], in.z[i]});
+            benchmark::DoNotOptimize(r);
+        }
+    }
+}
+
+void bm_native(benchmark::State& state, const Scene* s) {
+    const Inputs in = make_inputs(*s);
+    std::vector<double> out(kPoints);
+    benchmark::DoNotOptimize(out.data());
+    for (auto _ : state) {
+        s->native(in.x.data(), in.y.data(), in.z.data(), out.data(), kPoints);
+        benchmark::ClobberMemory();
+    }
+}
+
+void bm_interval(benchmark::State& state, const Scene* s) {
+    const Inputs in = make_inputs(*s);
+    Evaluator<Interval> e;
+    for (auto _ : state) {
+        for (int i = 0; i < kBoxes; ++i) {
+            Interval r = e(s->tape, {around(in.x[i], false), around(in.y[i], false),
+                                     around(in.z[i], s->planar)});
+            benchmark::DoNotOptimize(r);
+        }
+    }
+}
+
+void bm_dual(benchmark::State& state, const Scene* s) {
+    using D = Dual<double, 3>;
+    const Inputs in = make_inputs(*s);
+    Evaluator<D> e;
+    for (auto _ : state) {
+        for (int i = 0; i < kBoxes; ++i) {
+            D r = e(s->tape, {D::variable(in.x[i], 0), D::variable(in.y[i], 1),
+                              D::variable(in.z[i], 2)});
+            benchmark::DoNotOptimize(r);
+        }
+    }
+}
+
+void bm_idual(benchmark::State& state, const Scene* s) {
+    using D = Dual<Interval, 3>;
+    const Inputs in = make_inputs(*s);
+    Evaluator<D> e;
+    for (auto _ : state) {
+        for (int i = 0; i < kBoxes; ++i) {
+            D r = e(s->tape, {D::variable(around(in.x[i], false), 0),
+                              D::variable(around(in.y[i], false), 1),
+                              D::variable(around(in.z[i], s->planar), 2)});
+            benchmark::DoNotOptimize(r);
+        }
+    }
+}
+
+/// Evaluations (points, boxes) per pass of each kind.
+int per_pass(const std::string& kind) {
+    return (kind == "batch" || kind == "double" || kind == "native") ? kPoints : kBoxes;
+}
+
+/// Keeps CPU ns per evaluation of every run: kind → scene → ns.
+class TableReporter : public benchmark::ConsoleReporter {
+public:
+    std::map<std::string, std::map<std::string, double>> ns;
+
+    void ReportRuns(const std::vector<Run>& runs) override {
+        std::vector<Run> copy = runs;
+        for (Run& run : copy) {
+            if (run.run_type != Run::RT_Iteration || run.error_occurred) continue;
+            const std::string name = run.benchmark_name();
+            const auto slash = name.find('/');
+            const std::string kind = name.substr(0, slash), scene = name.substr(slash + 1);
+            // CPU time: the machine is shared.
+            const double t = run.GetAdjustedCPUTime() / per_pass(kind);
+            ns[kind][scene] = t;
+            run.counters["ns_per_eval"] = benchmark::Counter(t);
+        }
+        ConsoleReporter::ReportRuns(copy);
+    }
+
+    double get(const std::string& kind, const std::string& scene) const {
+        const auto k = ns.find(kind);
+        if (k == ns.end()) return NAN;
+        const auto s = k->second.find(scene);
+        return s == k->second.end() ? NAN : s->second;
+    }
+
+    void print_tables() const {
+        std::printf("\n(a) Point evaluation, CPU ns (per point; per op = per point / tape length):\n");
+        std::printf("%-10s %6s %12s %12s %14s %12s %14s %12s\n", "scene", "ops", "native/pt",
+                    "batch/pt", "batch/op/pt", "batch/native", "double/op/pt", "double/native");
+        for (const Scene& s : g_scenes) {
+            const double n = static_cast<double>(s.tape.size());
+            const double nat = get("native", s.name), b = get("batch", s.name),
+                         d = get("double", s.name);
+            std::printf("%-10s %6zu %12.3f %12.3f %14.4f %11.2fx %14.4f %11.2fx\n", s.name.c_str(),
+                        s.tape.size(), nat, b, b / n, b / nat, d / n, d / nat);
+        }
+        std::printf("\n(b) One evaluation against one scalar double evaluation (CPU ns, ratio):\n");
+        std::printf("%-10s %12s %16s %16s %18s\n", "scene", "double ns", "Interval", "Dual<double,3>",
+                    "Dual<Interval,3>");
+        for (const Scene& s : g_scenes) {
+            const double d = get("double", s.name);
+            std::printf("%-10s %12.1f %15.2fx %15.2fx %17.2fx\n", s.name.c_str(), d,
+                        get("interval", s.name) / d, get("dual", s.name) / d,
+                        get("idual", s.name) / d);
+        }
+    }
+};
+
+// ---- (c) pruning ---------------------------------------------------------------------------------
+
+double cpu_ns() {
+    timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return ts.tv_sec * 1e9 + ts.tv_nsec;
+}
+
+/// CPU ns per call of f, over at least 20 ms.
+double time_ns(const std::function<void()>& f) {
+    long n = 0;
+    const double t0 = cpu_ns();
+    double t1 = t0;
+    while (t1 - t0 < 2e7) {
+        for (int i = 0; i < 8; ++i) f();
+        n += 8;
+        t1 = cpu_ns();
+    }
+    return (t1 - t0) / static_cast<double>(n);
+}
+
+void print_prune_table() {
+    std::printf("\n(c) prune() on boxes of side s centred at a point of the surface "
+                "(CPU ns per interval evaluation):\n");
+    std::printf("%-10s %6s %8s %8s %12s %12s %8s %12s\n", "scene", "side", "before", "after",
+                "full ns", "pruned ns", "speedup", "prune ns");
+    for (const Scene& s : g_scenes) {
+        for (double side : {2.0, 1.0, 0.5, 0.25, 0.1, 0.05, 0.01}) {
+            const double h = side / 2;
+            const auto& c = s.surface;
+            const std::array<Interval, 3> box{Interval(c[0] - h, c[0] + h),
+                                              Interval(c[1] - h, c[1] + h),
+                                              s.planar ? Interval(0.0) : Interval(c[2] - h, c[2] + h)};
+            const expr::PruneResult p = expr::prune(s.tape, box);
+            Evaluator<Interval> e;
+            const double full = time_ns([&] {
+                Interval r = e(s.tape, box);
+                benchmark::DoNotOptimize(r);
+            });
+            const double pruned = time_ns([&] {
+                Interval r = e(p.tape, box);
+                benchmark::DoNotOptimize(r);
+            });
+            const double pt = time_ns([&] {
+                expr::PruneResult q = expr::prune(s.tape, box);
+                benchmark::DoNotOptimize(q);
+            });
+            std::printf("%-10s %6.2f %8zu %8zu %12.0f %12.0f %7.1fx %12.0f\n", s.name.c_str(), side,
+                        p.before, p.after, full, pruned, full / pruned, pt);
+        }
+    }
+}
+
+}  // namespace
+}  // namespace certray
+
+int main(int argc, char** argv) {
+    using namespace certray;
+    make_scenes();
+    for (const Scene& s : g_scenes) {
+        const Scene* p = &s;
+        if (s.native) benchmark::RegisterBenchmark(("native/" + s.name).c_str(), bm_native, p);
+        benchmark::RegisterBenchmark(("batch/" + s.name).c_str(), bm_batch, p);
+        benchmark::RegisterBenchmark(("double/" + s.name).c_str(), bm_double, p);
+        benchmark::RegisterBenchmark(("interval/" + s.name).c_str(), bm_interval, p);
+        benchmark::RegisterBenchmark(("dual/" + s.name).c_str(), bm_dual, p);
+        benchmark::RegisterBenchmark(("idual/" + s.name).c_str(), bm_idual, p);
+    }
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    std::printf("molecule: %zu spheres from %s\n", g_molecule.r.size(), g_molecule_source.c_str());
+    for (const Scene& s : g_scenes) {
+        std::printf("%-10s tape %zu instructions, %u registers; surface point (%.6g, %.6g, %.6g)\n",
+                    s.name.c_str(), s.tape.size(), s.tape.registers(), s.surface[0], s.surface[1],
+                    s.surface[2]);
+    }
+    TableReporter reporter;
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+    reporter.print_tables();
+    print_prune_table();
+    benchmark::Shutdown();
+    return 0;
+}

@@ -1,0 +1,108 @@
+// interval/batch.h — Batch: kBatch doubles evaluated in lock-step (one tape walk, 64 points).
+//
+// Contract: every operation applies the corresponding double operation of interval/number.h to
+// each lane independently, so lane i of a Batch result is bit for bit what the double evaluator
+// computes at lane i's inputs (NaN for NaN: min and max propagate it as certray::min does). The
+// arithmetic, sqrt, abs, min and max are vectorised by Eigen (IEEE-exact, so vectorising changes no
+// bit); exp, log, sin and cos call the libm function per lane, because Eigen's vectorised versions
+// are polynomial approximations that differ from libm in the last bits.
+// Use: expr::Evaluator<Batch> runs a tape over 64 points per walk, amortising the dispatch of each
+// instruction over the lanes (docs/benchmarks.md, "Expression evaluation (issue 3)").
+#pragma once
+
+#include <cmath>
+
+#include <Eigen/Core>
+
+#include "interval/number.h"
+
+namespace certray {
+
+/// Number of lanes of a Batch.
+inline constexpr int kBatch = 64;
+
+/// kBatch doubles; each operation acts lane by lane. A small value type with a public array.
+struct Batch {
+    using Array = Eigen::Array<double, kBatch, 1>;
+
+    /// The lanes.
+    Array v;
+
+    /// All lanes 0 (so that register files of Batch can be resized).
+    Batch() : v(Array::Zero()) {}
+    /// All lanes c (a constant of the tape). Implicit, so that `T(c)` works generically.
+    Batch(double c) : v(Array::Constant(c)) {}  // NOLINT: implicit on purpose
+    /// The given lanes.
+    explicit Batch(const Array& a) : v(a) {}
+
+    /// Lane i.
+    double operator[](int i) const { return v[i]; }
+    /// Lane i.
+    double& operator[](int i) { return v[i]; }
+};
+
+namespace detail {
+
+/// f applied to each lane with the scalar (libm) function, for bit-exact transcendentals.
+template <class F>
+Batch lanewise(const Batch& x, F f) {
+    Batch r;
+    for (int i = 0; i < kBatch; ++i) r.v[i] = f(x.v[i]);
+    return r;
+}
+
+}  // namespace detail
+
+/// a + b lane by lane (one rounding per lane, as in double).
+inline Batch operator+(const Batch& a, const Batch& b) { return Batch(Batch::Array(a.v + b.v)); }
+/// a − b lane by lane.
+inline Batch operator-(const Batch& a, const Batch& b) { return Batch(Batch::Array(a.v - b.v)); }
+/// a · b lane by lane.
+inline Batch operator*(const Batch& a, const Batch& b) { return Batch(Batch::Array(a.v * b.v)); }
+/// a / b lane by lane.
+inline Batch operator/(const Batch& a, const Batch& b) { return Batch(Batch::Array(a.v / b.v)); }
+/// −a lane by lane (exact: flips the sign bit).
+inline Batch operator-(const Batch& a) { return Batch(Batch::Array(-a.v)); }
+
+/// |a| lane by lane (exact).
+inline Batch abs(const Batch& a) { return Batch(Batch::Array(a.v.abs())); }
+/// a² lane by lane as a · a (one rounding, like square(double)).
+inline Batch square(const Batch& a) { return Batch(Batch::Array(a.v * a.v)); }
+/// aⁿ lane by lane by binary powering — the same product sequence as pow(double, unsigned), so the
+/// same roundings.
+inline Batch pow(Batch x, unsigned n) {
+    Batch r(1.0);
+    while (n) {
+        if (n & 1u) r.v *= x.v;
+        x.v *= x.v;
+        n >>= 1u;
+    }
+    return r;
+}
+/// √a lane by lane (IEEE correctly rounded in both the vector and the scalar instruction; NaN
+/// for a < 0).
+inline Batch sqrt(const Batch& a) { return Batch(Batch::Array(a.v.sqrt())); }
+/// eᵃ lane by lane with libm's exp.
+inline Batch exp(const Batch& a) { return detail::lanewise(a, [](double x) { return std::exp(x); }); }
+/// ln a lane by lane with libm's log (NaN for a < 0, −inf at 0).
+inline Batch log(const Batch& a) { return detail::lanewise(a, [](double x) { return std::log(x); }); }
+/// sin a lane by lane with libm's sin.
+inline Batch sin(const Batch& a) { return detail::lanewise(a, [](double x) { return std::sin(x); }); }
+/// cos a lane by lane with libm's cos.
+inline Batch cos(const Batch& a) { return detail::lanewise(a, [](double x) { return std::cos(x); }); }
+
+/// min lane by lane, propagating NaN. Written as certray::min(double, double)'s own rule,
+/// (a < b or a is NaN) ? a : b, as a vector compare and blend: Eigen's
+/// `min<PropagateNaN>` propagates NaN too but breaks the tie min(−0, +0) the other way
+/// (it returns a, certray::min returns b), which would change the sign of a zero result.
+inline Batch min(const Batch& a, const Batch& b) {
+    return Batch(Batch::Array(((a.v < b.v) || a.v.isNaN()).select(a.v, b.v)));
+}
+/// max lane by lane, propagating NaN: (a > b or a is NaN) ? a : b, like certray::max.
+inline Batch max(const Batch& a, const Batch& b) {
+    return Batch(Batch::Array(((a.v > b.v) || a.v.isNaN()).select(a.v, b.v)));
+}
+
+static_assert(Number<Batch>, "Batch must be usable by the expression evaluator");
+
+}  // namespace certray
