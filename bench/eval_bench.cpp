@@ -218,7 +218,7 @@ void make_scenes() {
     {
         Scene s{"barth", Tape(expr::load_graph_file(data + "algebraic/barth_sextic.vm")), false,
                 -2.0, 2.0, native_barth, {}};
-        s.surface = surface_point(s.tape, {0, 0, 0}, {0.6, 1.0, 1.6});
+        s.surface = surface_point(s.tape, {0, 0, 0}, {2.0, 2.0, 2.0});
         g_scenes.push_back(std::move(s));
     }
     if (read_molecule(CERTRAY_MOLECULE_JSON, g_molecule)) {

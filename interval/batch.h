@@ -32,8 +32,9 @@ struct Batch {
     Batch() : v(Array::Zero()) {}
     /// All lanes c (a constant of the tape). Implicit, so that `T(c)` works generically.
     Batch(double c) : v(Array::Constant(c)) {}  // NOLINT: implicit on purpose
-    /// The given lanes.
-    explicit Batch(const Array& a) : v(a) {}
+    /// The lanes of an Eigen array expression, evaluated straight into v (no temporary array).
+    template <class E>
+    explicit Batch(const Eigen::ArrayBase<E>& e) : v(e) {}
 
     /// Lane i.
     double operator[](int i) const { return v[i]; }
@@ -46,28 +47,28 @@ namespace detail {
 /// f applied to each lane with the scalar (libm) function, for bit-exact transcendentals.
 template <class F>
 Batch lanewise(const Batch& x, F f) {
-    Batch r;
-    for (int i = 0; i < kBatch; ++i) r.v[i] = f(x.v[i]);
+    Batch r(x);  // a copy, not a zero fill: every lane is overwritten
+    for (int i = 0; i < kBatch; ++i) r.v[i] = f(r.v[i]);
     return r;
 }
 
 }  // namespace detail
 
 /// a + b lane by lane (one rounding per lane, as in double).
-inline Batch operator+(const Batch& a, const Batch& b) { return Batch(Batch::Array(a.v + b.v)); }
+inline Batch operator+(const Batch& a, const Batch& b) { return Batch(a.v + b.v); }
 /// a − b lane by lane.
-inline Batch operator-(const Batch& a, const Batch& b) { return Batch(Batch::Array(a.v - b.v)); }
+inline Batch operator-(const Batch& a, const Batch& b) { return Batch(a.v - b.v); }
 /// a · b lane by lane.
-inline Batch operator*(const Batch& a, const Batch& b) { return Batch(Batch::Array(a.v * b.v)); }
+inline Batch operator*(const Batch& a, const Batch& b) { return Batch(a.v * b.v); }
 /// a / b lane by lane.
-inline Batch operator/(const Batch& a, const Batch& b) { return Batch(Batch::Array(a.v / b.v)); }
+inline Batch operator/(const Batch& a, const Batch& b) { return Batch(a.v / b.v); }
 /// −a lane by lane (exact: flips the sign bit).
-inline Batch operator-(const Batch& a) { return Batch(Batch::Array(-a.v)); }
+inline Batch operator-(const Batch& a) { return Batch(-a.v); }
 
 /// |a| lane by lane (exact).
-inline Batch abs(const Batch& a) { return Batch(Batch::Array(a.v.abs())); }
+inline Batch abs(const Batch& a) { return Batch(a.v.abs()); }
 /// a² lane by lane as a · a (one rounding, like square(double)).
-inline Batch square(const Batch& a) { return Batch(Batch::Array(a.v * a.v)); }
+inline Batch square(const Batch& a) { return Batch(a.v * a.v); }
 /// aⁿ lane by lane by binary powering — the same product sequence as pow(double, unsigned), so the
 /// same roundings.
 inline Batch pow(Batch x, unsigned n) {
@@ -81,7 +82,7 @@ inline Batch pow(Batch x, unsigned n) {
 }
 /// √a lane by lane (IEEE correctly rounded in both the vector and the scalar instruction; NaN
 /// for a < 0).
-inline Batch sqrt(const Batch& a) { return Batch(Batch::Array(a.v.sqrt())); }
+inline Batch sqrt(const Batch& a) { return Batch(a.v.sqrt()); }
 /// eᵃ lane by lane with libm's exp.
 inline Batch exp(const Batch& a) { return detail::lanewise(a, [](double x) { return std::exp(x); }); }
 /// ln a lane by lane with libm's log (NaN for a < 0, −inf at 0).
@@ -96,11 +97,11 @@ inline Batch cos(const Batch& a) { return detail::lanewise(a, [](double x) { ret
 /// `min<PropagateNaN>` propagates NaN too but breaks the tie min(−0, +0) the other way
 /// (it returns a, certray::min returns b), which would change the sign of a zero result.
 inline Batch min(const Batch& a, const Batch& b) {
-    return Batch(Batch::Array(((a.v < b.v) || a.v.isNaN()).select(a.v, b.v)));
+    return Batch(((a.v < b.v) || a.v.isNaN()).select(a.v, b.v));
 }
 /// max lane by lane, propagating NaN: (a > b or a is NaN) ? a : b, like certray::max.
 inline Batch max(const Batch& a, const Batch& b) {
-    return Batch(Batch::Array(((a.v > b.v) || a.v.isNaN()).select(a.v, b.v)));
+    return Batch(((a.v > b.v) || a.v.isNaN()).select(a.v, b.v));
 }
 
 static_assert(Number<Batch>, "Batch must be usable by the expression evaluator");

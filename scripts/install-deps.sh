@@ -3,7 +3,7 @@
 set -euo pipefail
 
 packages=(
-    cmake ninja-build ccache g++ clang-format pkgconf python3
+    cmake ninja-build ccache g++ clang clang-format libclang-rt-14-dev pkgconf python3
     libboost-dev libmpfr-dev libgmp-dev libeigen3-dev
     libgtest-dev librapidcheck-dev libbenchmark-dev
     libcli11-dev nlohmann-json3-dev libtbb-dev libpng-dev
