@@ -47,6 +47,10 @@ struct NoObserver {
 /// called after each instruction (pruning records min/max choices there).
 template <class T, class Observer = NoObserver>
 void run(const std::vector<Instr>& instrs, const std::array<T, 3>& p, T* r, Observer obs = {}) {
+    // The math functions of namespace certray (and std's, which it brings in) for doubles; other
+    // types are found by ADL. Named here so that the builder's expr::min & co. cannot hide them.
+    using certray::abs, certray::square, certray::pow, certray::sqrt, certray::exp, certray::log,
+        certray::sin, certray::cos, certray::min, certray::max;
     for (const Instr& in : instrs) {
         switch (in.op) {
             case Op::Const:

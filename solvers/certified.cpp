@@ -1,0 +1,266 @@
+// solvers/certified.cpp — leftmost-first interval bisection with interval Newton along a ray.
+//
+// Invariant: every part of [tmin, tmax] left of the interval being processed has been proven free
+// of zeros (0 ∉ G, or Newton's N(T) ∩ T = ∅), or lies in the recorded unresolved candidate.
+#include "solvers/certified.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "expr/derived.h"
+#include "expr/eval.h"
+#include "interval/dual.h"
+#include "interval/interval.h"
+
+namespace certray::solvers {
+
+namespace {
+
+using D1 = Dual<Interval, 1>;
+
+/// Scratch space of one thread: evaluators and the stack of intervals still to examine.
+struct Scratch {
+    expr::Evaluator<Interval> interval;
+    expr::Evaluator<D1> dual;
+    std::vector<Interval> stack;
+};
+
+/// Whether [a, b] can still be split: its midpoint lies strictly inside.
+bool splittable(double a, double b) {
+    const double m = midpoint(Interval(a, b));
+    return a < m && m < b;
+}
+
+/// Few ulps wide: the target width of a hit enclosure.
+bool narrow(double a, double b) {
+    const double scale = std::max(std::fabs(a), std::fabs(b));
+    double lim = scale;
+    for (int i = 0; i < 4; ++i) lim = std::nextafter(lim, std::numeric_limits<double>::infinity());
+    return !splittable(a, b) || (std::isfinite(b - a) && b - a <= lim - scale);
+}
+
+class Solver {
+public:
+    Solver(const expr::Tape& tape, const Ray& ray, const CertifiedOptions& options, Scratch& s)
+        : tape_(tape), ray_(ray), options_(options), s_(s) {}
+
+    RayResult solve();
+
+private:
+    bool out_of_budget() const { return result_.evals.total() >= options_.budget; }
+
+    /// G(T): g over the parameter interval T.
+    Interval g(const Interval& t) {
+        ++result_.evals.interval;
+        std::array<Interval, 3> p;
+        for (int i = 0; i < 3; ++i) p[i] = Interval(ray_.o[i]) + t * Interval(ray_.d[i]);
+        return s_.interval(tape_, p);
+    }
+    /// G(T) and G'(T) at once.
+    D1 g_dual(const Interval& t) {
+        ++result_.evals.gradient;
+        std::array<D1, 3> p;
+        for (int i = 0; i < 3; ++i) {
+            p[i] = D1(Interval(ray_.o[i]) + t * Interval(ray_.d[i]), {Interval(ray_.d[i])});
+        }
+        return s_.dual(tape_, p);
+    }
+
+    /// Proven: g has a zero in T (everything left of T excluded) → narrow T and report.
+    RayResult hit(Interval t);
+    /// Interval Newton from T with the derivative enclosure of `gt`. Returns the contracted T
+    /// (empty if T holds no zero) and sets `unique` when N(T) ⊂ int T proves a unique zero.
+    Interval newton(const Interval& t, const D1& gt, bool& unique);
+    /// Sign of g at the point t when certain: −1, +1, 0 for an exact zero, 2 when unknown.
+    int sign_at(double t);
+    RayResult finish(Status status, double lo, double hi);
+
+    const expr::Tape& tape_;
+    const Ray& ray_;
+    const CertifiedOptions& options_;
+    Scratch& s_;
+    RayResult result_;
+};
+
+int Solver::sign_at(double t) {
+    if (!std::isfinite(t)) return 2;
+    const Interval v = g(Interval(t));
+    if (v.is_empty() || !v.defined) return 2;
+    if (v.lower() > 0) return 1;
+    if (v.upper() < 0) return -1;
+    if (v.lower() == 0 && v.upper() == 0) return 0;
+    return 2;
+}
+
+Interval Solver::newton(const Interval& t, const D1& gt, bool& unique) {
+    unique = false;
+    const Interval& dg = gt.v[0];
+    // The mean value form needs g defined and continuous on T and a bounded derivative enclosure
+    // that excludes 0 (Clarke's mean value theorem covers the kinks of abs/min/max).
+    if (!gt.a.defined || !dg.defined || dg.is_empty() || possibly_zero(dg) ||
+        !std::isfinite(dg.lower()) || !std::isfinite(dg.upper()) || !std::isfinite(t.lower()) ||
+        !std::isfinite(t.upper())) {
+        return t;
+    }
+    const double c = midpoint(t);
+    const Interval gc = g(Interval(c));
+    if (gc.is_empty() || !gc.defined) return t;
+    const Interval n = Interval(c) - gc / dg;
+    if (n.is_empty()) return t;
+    unique = t.lower() < n.lower() && n.upper() < t.upper();
+    return intersect(t, n);
+}
+
+RayResult Solver::finish(Status status, double lo, double hi) {
+    result_.status = status;
+    if (status != Status::Miss) {
+        result_.t_lo = lo;
+        result_.t_hi = hi;
+        result_.t = std::isfinite(hi) ? midpoint(Interval(lo, hi)) : lo;
+    }
+    return result_;
+}
+
+// T holds a zero and nothing left of T does. Narrow T: by Newton while it contracts (a unique zero
+// stays unique), else by bisection that keeps the first zero inside (exclude the left half, or
+// keep a sign change in it).
+RayResult Solver::hit(Interval t) {
+    // Newton's contraction keeps every zero of T (whether or not uniqueness was proven).
+    for (int it = 0; it < 64 && !narrow(t.lower(), t.upper()) && !out_of_budget(); ++it) {
+        bool unique = false;
+        const D1 gt = g_dual(t);
+        const Interval next = newton(t, gt, unique);
+        if (next.is_empty()) break;  // cannot happen for a proven zero; keep the proof we have
+        if (next.lower() == t.lower() && next.upper() == t.upper()) break;
+        t = next;
+    }
+    int sa = sign_at(t.lower());
+    if (sa == 0) return finish(Status::Hit, t.lower(), t.lower());
+    while (!narrow(t.lower(), t.upper()) && !out_of_budget() && std::isfinite(t.upper())) {
+        // Split at the midpoint; where g's sign there is undecided (the split hit the root
+        // itself, say), at the quarter points instead.
+        const double m = midpoint(t);
+        const double splits[3] = {m, midpoint(Interval(t.lower(), m)), midpoint(Interval(m, t.upper()))};
+        bool progress = false;
+        for (double p : splits) {
+            if (!(t.lower() < p && p < t.upper())) continue;
+            const Interval left(t.lower(), p);
+            const Interval gl = g(left);
+            if (!possibly_zero(gl)) {  // no zero in [a, p]: the first zero is in [p, b]
+                t = Interval(p, t.upper());
+                sa = sign_at(p);
+                if (sa == 0) return finish(Status::Hit, p, p);
+                progress = true;
+                break;
+            }
+            const int sp = sign_at(p);
+            // A zero at p, or a sign change on [a, p]: the first zero is in [a, p] (not
+            // necessarily at p: [a, p) is not excluded).
+            if (sp == 0 || (gl.defined && sa != 2 && sp != 2 && sa != sp)) {
+                t = left;
+                progress = true;
+                break;
+            }
+        }
+        if (!progress) break;  // the first zero is in T; no cheaper proof narrows it further
+    }
+    return finish(Status::Hit, t.lower(), t.upper());
+}
+
+RayResult Solver::solve() {
+    if (ray_.d[0] == 0 && ray_.d[1] == 0 && ray_.d[2] == 0) {
+        // g is the constant f(o): a zero everywhere, nowhere, or undecided.
+        const int s = sign_at(0.0);
+        if (s == 0) return finish(Status::Hit, ray_.tmin, ray_.tmin);
+        if (s == 1 || s == -1) return finish(Status::Miss, 0, 0);
+        const Interval v = g(Interval(0.0));
+        if (!possibly_zero(v)) return finish(Status::Miss, 0, 0);
+        return finish(Status::Unknown, ray_.tmin, ray_.tmax);
+    }
+    const Interval all(ray_.tmin, ray_.tmax);
+    std::vector<Interval>& stack = s_.stack;
+    stack.clear();
+    stack.push_back(all);
+    // The first interval that could not be resolved, if any, and how far unresolved parts reach.
+    double cand_lo = std::numeric_limits<double>::quiet_NaN();
+    double cand_hi = cand_lo;
+    auto unresolved = [&](const Interval& t) {
+        if (std::isnan(cand_lo)) cand_lo = t.lower();
+        cand_hi = std::isnan(cand_hi) ? t.upper() : std::max(cand_hi, t.upper());
+    };
+
+    while (!stack.empty()) {
+        if (out_of_budget()) {
+            // Everything left of the leftmost pending interval is resolved.
+            const double lo = std::isnan(cand_lo) ? stack.back().lower() : cand_lo;
+            return finish(Status::Unknown, lo, ray_.tmax);
+        }
+        Interval t = stack.back();
+        stack.pop_back();
+        const Interval gt = g(t);
+        if (!possibly_zero(gt)) continue;  // excluded (also when g is undefined on all of T)
+
+        // An exact zero at the left end is the first zero.
+        if (gt.lower() == 0 && gt.upper() == 0 && gt.defined) {
+            const double lo = std::isnan(cand_lo) ? t.lower() : cand_lo;
+            return finish(Status::Hit, lo, t.lower());
+        }
+
+        const D1 gd = g_dual(t);
+        bool unique = false;
+        const Interval contracted = newton(t, gd, unique);
+        if (contracted.is_empty()) continue;  // Newton: no zero in T
+        if (unique) {
+            if (!std::isnan(cand_lo)) {
+                // A zero is proven in `contracted`, none before cand_lo: the first zero lies in
+                // [cand_lo, contracted.hi].
+                return finish(Status::Hit, cand_lo, contracted.upper());
+            }
+            return hit(contracted);
+        }
+        const double a = contracted.lower(), b = contracted.upper();
+        // A sign change over T where g is defined and continuous proves a zero in T (the first
+        // zero then lies in T, or in the candidate before it).
+        if (gd.a.defined && std::isfinite(a) && std::isfinite(b)) {
+            const int sa = sign_at(a);
+            const int sb = sign_at(b);
+            if (sa == 0 || (sa != 2 && sb != 2 && sa != sb)) {
+                if (!std::isnan(cand_lo)) return finish(Status::Hit, cand_lo, b);
+                return hit(contracted);
+            }
+        }
+        if (!splittable(a, b) || narrow(a, b)) {
+            // A leaf: prove a zero by a sign change over a segment where g is defined and
+            // continuous, or give up on it as a candidate.
+            const int sa = sign_at(a);
+            const int sb = sign_at(b);
+            const bool proven = sa == 0 || (gd.a.defined && sa != 2 && sb != 2 && sa != sb);
+            if (proven) {
+                if (!std::isnan(cand_lo)) return finish(Status::Hit, cand_lo, b);
+                return hit(contracted);
+            }
+            if (sb == 0) {
+                return finish(Status::Hit, std::isnan(cand_lo) ? a : cand_lo, b);
+            }
+            unresolved(contracted);
+            continue;
+        }
+        const double m = midpoint(contracted);
+        stack.push_back(Interval(m, b));  // right half examined after the left one
+        stack.push_back(Interval(a, m));
+    }
+    if (!std::isnan(cand_lo)) return finish(Status::Unknown, cand_lo, cand_hi);
+    return finish(Status::Miss, 0, 0);
+}
+
+}  // namespace
+
+RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
+                               const CertifiedOptions& options) {
+    thread_local Scratch scratch;
+    return Solver(tape, ray, options, scratch).solve();
+}
+
+}  // namespace certray::solvers

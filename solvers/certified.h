@@ -1,0 +1,29 @@
+// solvers/certified.h — the certified first root along a ray: interval bisection (Snyder 1992)
+// with interval Newton (Moore) for existence, uniqueness and quadratic convergence.
+//
+// Contract (solvers/ray.h, DESIGN.md "Certification semantics"): a Hit [t_lo, t_hi] means g has a
+// zero in [t_lo, t_hi] and none in [tmin, t_lo); a Miss means none in [tmin, tmax]; otherwise
+// Unknown. Zeros are proven by a sign change between two points where g is proven defined and
+// continuous on the whole segment between them (the interval decoration), by an exact zero, or by
+// the interval Newton test N(T) ⊂ int T. Exclusion uses 0 ∉ G(T), or N(T) ∩ T = ∅. Reference:
+// docs/theory/certified.md.
+#pragma once
+
+#include <cstdint>
+
+#include "expr/tape.h"
+#include "solvers/ray.h"
+
+namespace certray::solvers {
+
+struct CertifiedOptions {
+    /// The most whole-tape evaluations (of any kind) spent on one ray; then the answer is Unknown.
+    std::uint64_t budget = 20000;
+};
+
+/// The first root of g(t) = f(o + t·d) on [ray.tmin, ray.tmax], certified (see the contract).
+/// Thread-safe: each thread uses its own scratch space, allocated once.
+RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
+                               const CertifiedOptions& options = {});
+
+}  // namespace certray::solvers

@@ -1,0 +1,220 @@
+// tests/solvers/certified_test.cpp — the certified first root against roots mathematics gives:
+// spheres, the torus, scaled, tiny, far and thin variants, tangent and near-miss rays, clustered
+// polynomial roots, and properties on random polynomials and random DAGs checked in MPFR.
+#include "solvers/certified.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <mpfr.h>
+#include <rapidcheck/gtest.h>
+
+#include "expr/eval.h"
+#include "expr/graph.h"
+#include "expr/parser.h"
+#include "expr/tape.h"
+#include "interval/mpfr_interval.h"
+#include "tests/support/random_dag.h"
+
+namespace certray::solvers {
+namespace {
+
+using expr::Tape;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+Tape tape_of(const char* text) { return Tape(expr::parse_expr(text)); }
+
+RayResult trace(const Tape& t, std::array<double, 3> o, std::array<double, 3> d, double tmin = 0,
+                double tmax = kInf) {
+    return certified_first_root(t, Ray{o, d, tmin, tmax});
+}
+
+/// Width of [lo, hi] in ulps of hi.
+double ulps(double lo, double hi) {
+    double n = 0;
+    for (double x = lo; x < hi && n < 1e6; x = std::nextafter(x, kInf)) ++n;
+    return n;
+}
+
+void expect_hit_at(const RayResult& r, double root, double max_ulps = 8) {
+    ASSERT_EQ(r.status, Status::Hit) << "t_lo " << r.t_lo << " t_hi " << r.t_hi;
+    EXPECT_LE(r.t_lo, root);
+    EXPECT_GE(r.t_hi, root);
+    EXPECT_LE(ulps(r.t_lo, r.t_hi), max_ulps) << r.t_lo << " " << r.t_hi;
+}
+
+TEST(Certified, UnitSphereFromOutsideAndInside) {
+    const Tape s = tape_of("sqrt(x^2 + y^2 + z^2) - 1");
+    expect_hit_at(trace(s, {0, 0, -3}, {0, 0, 1}), 2.0);
+    expect_hit_at(trace(s, {0, 0, 0}, {1, 0, 0}), 1.0);                // starts inside
+    expect_hit_at(trace(s, {0, 0, -3}, {0, 0, 2}), 1.0);               // scaled direction
+    EXPECT_EQ(trace(s, {0, 5, 0}, {1, 0, 0}).status, Status::Miss);    // clear miss
+    EXPECT_EQ(trace(s, {0, 0, -3}, {0, 0, 1}, 0, 1.5).status, Status::Miss);  // stops short
+    expect_hit_at(trace(s, {0, 0, -3}, {0, 0, 1}, 2.5), 4.0);          // starts past the first
+}
+
+TEST(Certified, AlgebraicSphereNeverMissesATangent) {
+    // x² + y² + z² − 1 along y = 1: a double root at t = 3; proven or unknown, never a miss.
+    const Tape s = tape_of("x^2 + y^2 + z^2 - 1");
+    const RayResult r = trace(s, {-3, 1, 0}, {1, 0, 0});
+    EXPECT_NE(r.status, Status::Miss);
+    if (r.status != Status::Miss) {
+        EXPECT_LE(r.t_lo, 3.0);
+    }
+    if (r.status == Status::Hit) EXPECT_GE(r.t_hi, 3.0);
+    // Missing by 2⁻⁴⁰: never a hit.
+    const RayResult m = trace(s, {-3, 1 + std::ldexp(1.0, -40), 0}, {1, 0, 0});
+    EXPECT_NE(m.status, Status::Hit);
+}
+
+TEST(Certified, TorusRootIsTwoMinusTheDoubleOf035) {
+    const Tape t = tape_of("q = sqrt(x^2 + y^2) - 1\nsqrt(q^2 + z^2) - 0.35");
+    const RayResult r = trace(t, {-3, 0, 0}, {1, 0, 0});
+    ASSERT_EQ(r.status, Status::Hit);
+    // The real root is 2 − c with c the double nearest 0.35: check t_lo + c ≤ 2 ≤ t_hi + c exactly.
+    mpfr_t a;
+    mpfr_init2(a, 200);
+    mpfr_set_d(a, r.t_lo, MPFR_RNDN);
+    mpfr_add_d(a, a, 0.35, MPFR_RNDN);
+    EXPECT_LE(mpfr_cmp_ui(a, 2), 0);
+    mpfr_set_d(a, r.t_hi, MPFR_RNDN);
+    mpfr_add_d(a, a, 0.35, MPFR_RNDN);
+    EXPECT_GE(mpfr_cmp_ui(a, 2), 0);
+    mpfr_clear(a);
+    EXPECT_LE(ulps(r.t_lo, r.t_hi), 8);
+}
+
+TEST(Certified, SteepTinyFarAndThinVariants) {
+    expect_hit_at(trace(tape_of("1e8 * (sqrt(x^2 + y^2 + z^2) - 1)"), {0, 0, -3}, {0, 0, 1}), 2.0);
+    // ×2⁻⁶⁰⁰, an exact power of two.
+    expect_hit_at(trace(tape_of("(sqrt(x^2 + y^2 + z^2) - 1) * 0.5^600"),
+                        {0, 0, -3}, {0, 0, 1}),
+                  2.0);
+    // A unit sphere centred at (0, 0, 1e6), ray from 3 below its centre.
+    // Points on this ray are resolved to ulp(1e6) = 2⁻³³, so that is the width to expect.
+    const RayResult far = trace(tape_of("sqrt(x^2 + y^2 + (z - 1000000)^2) - 1"), {0, 0, 1e6 - 3},
+                                {0, 0, 1});
+    ASSERT_EQ(far.status, Status::Hit);
+    EXPECT_LE(far.t_lo, 2.0);
+    EXPECT_GE(far.t_hi, 2.0);
+    EXPECT_LE(far.t_hi - far.t_lo, 4 * std::ldexp(1.0, -33));
+    // A shell of thickness 2⁻³⁰ around radius 1: | |p| − 1 | − 2⁻³¹ (exact constants).
+    const double h = std::ldexp(1.0, -31);
+    const RayResult r = trace(tape_of("abs(sqrt(x^2 + y^2 + z^2) - 1) - 0.0000000004656612873077392578125"),
+                              {0, 0, -3}, {0, 0, 1});
+    expect_hit_at(r, 2.0 - h);
+}
+
+TEST(Certified, ClusteredRootsOfAPolynomial) {
+    // (x − 0.25)(x − 0.25 − 2⁻³⁰)(x − 1) along +x from 0: the first root is 0.25.
+    const Tape p = tape_of("(x - 0.25) * (x - 0.2500000009313225746154785156250) * (x - 1)");
+    expect_hit_at(trace(p, {0, 0, 0}, {1, 0, 0}), 0.25);
+    // From between the cluster and 1: the next root is 1.
+    expect_hit_at(trace(p, {0.5, 0, 0}, {1, 0, 0}), 0.5);
+}
+
+TEST(Certified, DegenerateRays) {
+    const Tape s = tape_of("sqrt(x^2 + y^2 + z^2) - 1");
+    EXPECT_EQ(trace(s, {0, 0, 0}, {0, 0, 0}).status, Status::Miss);  // g ≡ −1
+    const RayResult on = trace(s, {1, 0, 0}, {0, 0, 0}, 0, 5);         // g ≡ 0
+    EXPECT_EQ(on.status, Status::Hit);
+    EXPECT_EQ(on.t_lo, 0.0);
+    EXPECT_EQ(trace(s, {0, 0, -3}, {0, 0, 1}, 1, 1).status, Status::Miss);
+    const RayResult at = trace(s, {0, 0, -3}, {0, 0, 1}, 2, 2);
+    EXPECT_EQ(at.status, Status::Hit);
+}
+
+TEST(Certified, UndefinedRegionsAreNotSignChanges) {
+    // 1/x − 1 changes sign across x = 0 without a zero there; the zero is at x = 1.
+    const Tape t = tape_of("1 / x - 1");
+    const RayResult r = trace(t, {-2, 0, 0}, {1, 0, 0});
+    ASSERT_EQ(r.status, Status::Hit);
+    EXPECT_LE(r.t_lo, 3.0);
+    EXPECT_GE(r.t_hi, 3.0);
+    // sqrt(x) − 0.5 is undefined for x < 0: its zero is at x = 0.25.
+    expect_hit_at(trace(tape_of("sqrt(x) - 0.5"), {-1, 0, 0}, {1, 0, 0}), 1.25);
+}
+
+TEST(Certified, BudgetEndsWithUnknown) {
+    // sin(1/x) oscillates without end near 0: a small budget must end the search honestly.
+    const Tape t = tape_of("sin(1 / x)");
+    const RayResult r = certified_first_root(t, Ray{{-1, 0, 0}, {1, 0, 0}, 0, 2}, {200});
+    EXPECT_NE(r.status, Status::Miss);
+    EXPECT_LE(r.evals.total(), 200u + 4);
+}
+
+// ---- properties ------------------------------------------------------------------------------
+
+// g(t) = Π (t − rᵢ) with dyadic roots rᵢ = kᵢ / 64 along the x axis: the first root is known.
+RC_GTEST_PROP(CertifiedProperty, PolynomialWithKnownRoots, ()) {
+    const int n = *rc::gen::inRange(1, 6);
+    std::vector<double> roots;
+    std::string text;
+    for (int i = 0; i < n; ++i) {
+        const double r = *rc::gen::inRange(-256, 256) / 64.0;
+        roots.push_back(r);
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%s(x - %.17g)", i ? " * " : "", r);
+        text += buf;
+    }
+    const double tmin = *rc::gen::inRange(-300, 300) / 64.0;
+    const double tmax = tmin + *rc::gen::inRange(0, 400) / 64.0;
+    const Tape t(expr::parse_expr(text));
+    const RayResult res = certified_first_root(t, Ray{{0, 0, 0}, {1, 0, 0}, tmin, tmax});
+    double first = kInf;
+    for (double r : roots) {
+        if (r >= tmin && r <= tmax) first = std::min(first, r);
+    }
+    if (res.status == Status::Miss) RC_ASSERT(first == kInf);
+    if (res.status == Status::Hit) RC_ASSERT(res.t_lo <= first && first <= res.t_hi);
+    if (res.status == Status::Unknown) RC_ASSERT(first == kInf || res.t_lo <= first);
+    // Simple and multiple roots alike are resolved here: these polynomials are well separated.
+    if (first != kInf) RC_ASSERT(res.status != Status::Miss);
+}
+
+// On random DAGs and rays: no zero proven by MPFR may lie before t_lo (or anywhere, for a miss).
+RC_GTEST_PROP(CertifiedProperty, NoProvenZeroBeforeTheAnswer, ()) {
+    const expr::Graph g = *testing::gen_dag(16);
+    const Tape t(g);
+    Ray ray;
+    for (int i = 0; i < 3; ++i) {
+        ray.o[i] = *rc::gen::inRange(-300, 300) / 100.0;
+        ray.d[i] = *rc::gen::inRange(-100, 100) / 50.0;
+    }
+    ray.tmin = 0;
+    ray.tmax = *rc::gen::inRange(1, 50) / 10.0;
+    const RayResult res = certified_first_root(t, ray, {4000});
+    const double end = res.status == Status::Miss ? ray.tmax : res.t_lo;
+    // Sample [tmin, end]; between samples where MPFR proves g defined and continuous on the
+    // segment and of opposite signs at its ends, a zero exists: the answer would be wrong.
+    constexpr int kSamples = 24;
+    auto seg = [&](double a, double b) {
+        std::array<MpfrInterval, 3> p;
+        for (int i = 0; i < 3; ++i) {
+            p[i] = MpfrInterval(ray.o[i]) + MpfrInterval(std::min(a, b), std::max(a, b)) *
+                                                MpfrInterval(ray.d[i]);
+        }
+        return expr::eval<MpfrInterval>(t, p);
+    };
+    double prev_t = ray.tmin;
+    MpfrInterval prev = seg(prev_t, prev_t);
+    for (int k = 1; k <= kSamples; ++k) {
+        const double tk = ray.tmin + (end - ray.tmin) * k / kSamples;
+        if (!(tk <= end)) break;
+        const MpfrInterval cur = seg(tk, tk);
+        const MpfrInterval whole = seg(prev_t, tk);
+        const bool opposite = (prev.lower() > 0 && cur.upper() < 0) ||
+                              (prev.upper() < 0 && cur.lower() > 0);
+        const bool zero_inside = tk < end && cur.lower() == 0 && cur.upper() == 0;
+        RC_ASSERT(!(opposite && whole.defined && !whole.is_empty()) || tk > end);
+        RC_ASSERT(!zero_inside);
+        prev = cur;
+        prev_t = tk;
+    }
+}
+
+}  // namespace
+}  // namespace certray::solvers
