@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "apps/inspect.h"
+#include "apps/query.h"
 #include "expr/input_error.h"
 
 int main(int argc, char** argv) {
@@ -25,6 +26,38 @@ int main(int argc, char** argv) {
     cmd_inspect->add_option("--levels", inspect.levels, "Subdivision levels of the pruning table")
         ->check(CLI::Range(0, 8));
 
+    certray::apps::QueryOptions query;
+    std::string method_list;
+    for (const std::string& m : certray::apps::query_methods()) {
+        method_list += (method_list.empty() ? "" : ", ") + m;
+    }
+    CLI::App* cmd_query = app.add_subcommand(
+        "query",
+        "Find the first surface crossing f = 0 along each ray of RAYS.csv and write one line per "
+        "ray (hit, miss or unknown, with an enclosure [t_lo, t_hi] and a point t) to HITS.csv");
+    cmd_query->add_option("scene", query.scene, "Scene file (.expr or .vm)")->required();
+    cmd_query->add_option("--rays", query.rays,
+                          "Rays to query: CSV with the header ox,oy,oz,dx,dy,dz,tmin,tmax and "
+                          "finite numbers (decimal or hex-float)")
+        ->required();
+    cmd_query->add_option("--method", query.method, "Root-finding method; available: " + method_list)
+        ->required();
+    cmd_query->add_option("--out", query.out,
+                          "HITS.csv to write (header status,t_lo,t_hi,t; rays in input order; "
+                          "written to OUT.tmp, then renamed)")
+        ->required();
+    cmd_query->add_option("--stats", query.stats,
+                          "Also write STATS.json: method, rays, solve seconds, threads, "
+                          "evaluation counts by kind, per-ray evaluations, status counts");
+    cmd_query->add_option("--budget", query.budget,
+                          "Most whole-tape evaluations per ray before answering unknown "
+                          "(certified)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd_query->add_option("--threads", query.threads,
+                          "Worker threads (0: one per hardware thread)")
+        ->capture_default_str();
+
     CLI11_PARSE(app, argc, argv);
     try {
         if (cmd_inspect->parsed()) {
@@ -34,6 +67,7 @@ int main(int argc, char** argv) {
             }
             for (const std::string& s : scenes) certray::apps::inspect_scene(s, inspect, std::cout);
         }
+        if (cmd_query->parsed()) return certray::apps::run_query(query);
     } catch (const certray::InputError& e) {
         std::cerr << "certray: " << e.what() << "\n";
         return 1;

@@ -1,4 +1,5 @@
-// bench/eval_bench.cpp — the cost of evaluating a tape, per number type and per scene (Google Benchmark).
+// bench/eval_bench.cpp — the cost of evaluating a tape, per number type and per scene (Google
+// Benchmark).
 //
 // Scenes: unit sphere, torus (R = 1, r = 0.25), Barth sextic (.vm), a union of 1,001 spheres (the
 // "molecule" of the Lipschitz-pruning paper, read from its JSON; a deterministic 1,000-sphere union
@@ -12,9 +13,9 @@
 //     point of the surface, with the tape lengths and the CPU time of one interval evaluation of
 //     the full and the pruned tape.
 // The custom main prints the tables (CPU time; ratios from times of this process).
-// Results and the command that produced them: docs/benchmarks.md, "Expression evaluation (issue 3)".
+// Results and the command that produced them: docs/benchmarks.md, "Expression evaluation (issue
+// 3)".
 #include <benchmark/benchmark.h>
-#include <nlohmann/json.hpp>
 #include <time.h>
 
 #include <array>
@@ -23,22 +24,22 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <vector>
 
 // eval.h and derived.h before builder.h: builder.h declares expr::min, sqrt, … which, seen first,
 // would hide certray::min(double, double) etc. from the unqualified calls in detail::run.
+#include "expr/builder.h"
 #include "expr/derived.h"
 #include "expr/eval.h"
-#include "interval/batch.h"
-#include "interval/dual.h"
-#include "interval/interval.h"
-
-#include "expr/builder.h"
 #include "expr/load.h"
 #include "expr/prune.h"
 #include "expr/tape.h"
+#include "interval/batch.h"
+#include "interval/dual.h"
+#include "interval/interval.h"
 
 namespace certray {
 namespace {
@@ -56,13 +57,14 @@ using Native = void (*)(const double*, const double*, const double*, double*, in
 struct Scene {
     std::string name;
     Tape tape;
-    bool planar = false;  ///< 2D: z = 0
+    bool planar = false;     ///< 2D: z = 0
     double lo = -1, hi = 1;  ///< sampling cube (square when planar)
     Native native = nullptr;
     std::array<double, 3> surface{};  ///< a point on (or within 1e-15 of) f = 0
 };
 
-// ---- hand-written functions ----------------------------------------------------------------------
+// ---- hand-written functions
+// ----------------------------------------------------------------------
 
 __attribute__((noinline)) void native_sphere(const double* x, const double* y, const double* z,
                                              double* out, int n) {
@@ -107,7 +109,8 @@ __attribute__((noinline)) void native_molecule(const double* x, const double* y,
     }
 }
 
-// ---- scenes --------------------------------------------------------------------------------------
+// ---- scenes
+// --------------------------------------------------------------------------------------
 
 Tape sphere_tape() {
     expr::Graph g;
@@ -185,7 +188,8 @@ Tape molecule_tape(const Spheres& s) {
 
 /// A point where f changes sign on the segment a→b (first change of 4,096 samples, then 80
 /// bisections); a if there is none.
-std::array<double, 3> surface_point(const Tape& t, std::array<double, 3> a, std::array<double, 3> b) {
+std::array<double, 3> surface_point(const Tape& t, std::array<double, 3> a,
+                                    std::array<double, 3> b) {
     Evaluator<double> e;
     auto at = [&](double s) {
         return std::array<double, 3>{a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]),
@@ -198,7 +202,10 @@ std::array<double, 3> surface_point(const Tape& t, std::array<double, 3> a, std:
             double l = s0, h = s1;
             for (int it = 0; it < 80; ++it) {
                 const double m = 0.5 * (l + h);
-                if ((e(t, at(m)) < 0) == (f0 < 0)) l = m; else h = m;
+                if ((e(t, at(m)) < 0) == (f0 < 0))
+                    l = m;
+                else
+                    h = m;
             }
             return at(l);
         }
@@ -213,11 +220,14 @@ std::string g_molecule_source;
 
 void make_scenes() {
     const std::string data = CERTRAY_SOURCE_DIR "/tests/data/models/";
-    g_scenes.push_back({"sphere", sphere_tape(), false, -1.5, 1.5, native_sphere, {0.6, 0.48, 0.64}});
+    g_scenes.push_back(
+        {"sphere", sphere_tape(), false, -1.5, 1.5, native_sphere, {0.6, 0.48, 0.64}});
     g_scenes.push_back({"torus", torus_tape(), false, -1.5, 1.5, native_torus, {0.8, 0.6, 0.25}});
     {
-        Scene s{"barth", Tape(expr::load_graph_file(data + "algebraic/barth_sextic.vm")), false,
-                -2.0, 2.0, native_barth, {}};
+        Scene s{"barth", Tape(expr::load_graph_file(data + "algebraic/barth_sextic.vm")),
+                false,   -2.0,
+                2.0,     native_barth,
+                {}};
         s.surface = surface_point(s.tape, {0, 0, 0}, {2.0, 2.0, 2.0});
         g_scenes.push_back(std::move(s));
     }
@@ -231,22 +241,24 @@ void make_scenes() {
     {
         Scene s{"molecule", molecule_tape(g_molecule), false, -1.0, 1.0, native_molecule, {}};
         const auto& m = g_molecule;
-        s.surface = surface_point(s.tape, {m.cx[0], m.cy[0], m.cz[0]},
-                                  {m.cx[0] + 1.0, m.cy[0], m.cz[0]});
+        s.surface =
+            surface_point(s.tape, {m.cx[0], m.cy[0], m.cz[0]}, {m.cx[0] + 1.0, m.cy[0], m.cz[0]});
         g_scenes.push_back(std::move(s));
     }
     {
-        Scene s{"prospero", Tape(expr::load_graph_file(data + "prospero.vm")), true, -1.0, 1.0,
-                nullptr, {}};
+        Scene s{
+            "prospero", Tape(expr::load_graph_file(data + "prospero.vm")), true, -1.0, 1.0, nullptr,
+            {}};
         s.surface = surface_point(s.tape, {-1.0, 0.1, 0}, {1.0, 0.1, 0});
         g_scenes.push_back(std::move(s));
     }
 }
 
-// ---- inputs --------------------------------------------------------------------------------------
+// ---- inputs
+// --------------------------------------------------------------------------------------
 
 struct Inputs {
-    std::vector<double> x, y, z;            // kPoints points
+    std::vector<double> x, y, z;                // kPoints points
     std::vector<std::array<Batch, 3>> batches;  // the same points, 64 per batch
 };
 
@@ -271,9 +283,12 @@ Inputs make_inputs(const Scene& s) {
     return in;
 }
 
-Interval around(double v, bool zero) { return zero ? Interval(0.0) : Interval(v - kHalfBox, v + kHalfBox); }
+Interval around(double v, bool zero) {
+    return zero ? Interval(0.0) : Interval(v - kHalfBox, v + kHalfBox);
+}
 
-// ---- benchmarks ----------------------------------------------------------------------------------
+// ---- benchmarks
+// ----------------------------------------------------------------------------------
 
 void bm_batch(benchmark::State& state, const Scene* s) {
     const Inputs in = make_inputs(*s);
@@ -325,8 +340,8 @@ void bm_dual(benchmark::State& state, const Scene* s) {
     Evaluator<D> e;
     for (auto _ : state) {
         for (int i = 0; i < kBoxes; ++i) {
-            D r = e(s->tape, {D::variable(in.x[i], 0), D::variable(in.y[i], 1),
-                              D::variable(in.z[i], 2)});
+            D r = e(s->tape,
+                    {D::variable(in.x[i], 0), D::variable(in.y[i], 1), D::variable(in.z[i], 2)});
             benchmark::DoNotOptimize(r);
         }
     }
@@ -338,9 +353,9 @@ void bm_idual(benchmark::State& state, const Scene* s) {
     Evaluator<D> e;
     for (auto _ : state) {
         for (int i = 0; i < kBoxes; ++i) {
-            D r = e(s->tape, {D::variable(around(in.x[i], false), 0),
-                              D::variable(around(in.y[i], false), 1),
-                              D::variable(around(in.z[i], s->planar), 2)});
+            D r = e(s->tape,
+                    {D::variable(around(in.x[i], false), 0), D::variable(around(in.y[i], false), 1),
+                     D::variable(around(in.z[i], s->planar), 2)});
             benchmark::DoNotOptimize(r);
         }
     }
@@ -353,7 +368,7 @@ int per_pass(const std::string& kind) {
 
 /// Keeps CPU ns per evaluation of every run: kind → scene → ns.
 class TableReporter : public benchmark::ConsoleReporter {
-public:
+  public:
     std::map<std::string, std::map<std::string, double>> ns;
 
     void ReportRuns(const std::vector<Run>& runs) override {
@@ -379,7 +394,8 @@ public:
     }
 
     void print_tables() const {
-        std::printf("\n(a) Point evaluation, CPU ns (per point; per op = per point / tape length):\n");
+        std::printf(
+            "\n(a) Point evaluation, CPU ns (per point; per op = per point / tape length):\n");
         std::printf("%-10s %6s %12s %12s %14s %12s %14s %12s\n", "scene", "ops", "native/pt",
                     "batch/pt", "batch/op/pt", "batch/native", "double/op/pt", "double/native");
         for (const Scene& s : g_scenes) {
@@ -390,8 +406,8 @@ public:
                         s.tape.size(), nat, b, b / n, b / nat, d / n, d / nat);
         }
         std::printf("\n(b) One evaluation against one scalar double evaluation (CPU ns, ratio):\n");
-        std::printf("%-10s %12s %16s %16s %18s\n", "scene", "double ns", "Interval", "Dual<double,3>",
-                    "Dual<Interval,3>");
+        std::printf("%-10s %12s %16s %16s %18s\n", "scene", "double ns", "Interval",
+                    "Dual<double,3>", "Dual<Interval,3>");
         for (const Scene& s : g_scenes) {
             const double d = get("double", s.name);
             std::printf("%-10s %12.1f %15.2fx %15.2fx %17.2fx\n", s.name.c_str(), d,
@@ -401,7 +417,8 @@ public:
     }
 };
 
-// ---- (c) pruning ---------------------------------------------------------------------------------
+// ---- (c) pruning
+// ---------------------------------------------------------------------------------
 
 double cpu_ns() {
     timespec ts;
@@ -423,17 +440,18 @@ double time_ns(const std::function<void()>& f) {
 }
 
 void print_prune_table() {
-    std::printf("\n(c) prune() on boxes of side s centred at a point of the surface "
-                "(CPU ns per interval evaluation):\n");
+    std::printf(
+        "\n(c) prune() on boxes of side s centred at a point of the surface "
+        "(CPU ns per interval evaluation):\n");
     std::printf("%-10s %6s %8s %8s %12s %12s %8s %12s\n", "scene", "side", "before", "after",
                 "full ns", "pruned ns", "speedup", "prune ns");
     for (const Scene& s : g_scenes) {
         for (double side : {2.0, 1.0, 0.5, 0.25, 0.1, 0.05, 0.01}) {
             const double h = side / 2;
             const auto& c = s.surface;
-            const std::array<Interval, 3> box{Interval(c[0] - h, c[0] + h),
-                                              Interval(c[1] - h, c[1] + h),
-                                              s.planar ? Interval(0.0) : Interval(c[2] - h, c[2] + h)};
+            const std::array<Interval, 3> box{
+                Interval(c[0] - h, c[0] + h), Interval(c[1] - h, c[1] + h),
+                s.planar ? Interval(0.0) : Interval(c[2] - h, c[2] + h)};
             const expr::PruneResult p = expr::prune(s.tape, box);
             Evaluator<Interval> e;
             const double full = time_ns([&] {

@@ -74,11 +74,26 @@ struct Affine {
 
 // ---- queries (the Enclosure concept) ---------------------------------------------------------
 
-template <int N> double lower(const Affine<N>& x) { return x.to_interval().lower(); }
-template <int N> double upper(const Affine<N>& x) { return x.to_interval().upper(); }
-template <int N> bool is_defined(const Affine<N>& x) { return x.defined; }
-template <int N> bool is_empty(const Affine<N>& x) { return x.is_empty(); }
-template <int N> Interval to_interval(const Affine<N>& x) { return x.to_interval(); }
+template <int N>
+double lower(const Affine<N>& x) {
+    return x.to_interval().lower();
+}
+template <int N>
+double upper(const Affine<N>& x) {
+    return x.to_interval().upper();
+}
+template <int N>
+bool is_defined(const Affine<N>& x) {
+    return x.defined;
+}
+template <int N>
+bool is_empty(const Affine<N>& x) {
+    return x.is_empty();
+}
+template <int N>
+Interval to_interval(const Affine<N>& x) {
+    return x.to_interval();
+}
 
 namespace detail {
 
@@ -139,14 +154,13 @@ inline double center_of(const UpInterval& d, double& delta) {
 
 /// z = α·x̂ + β·ŷ + c: z0 = α x0 + β y0 + c, z_i = α x_i + β y_i, err = |α| ex + |β| ey + rounding.
 template <int N>
-Affine<N> combine(double a, const Affine<N>& x, double b, const Affine<N>& y, double c,
-                  bool def) {
+Affine<N> combine(double a, const Affine<N>& x, double b, const Affine<N>& y, double c, bool def) {
     ErrorAccumulator acc;
     Affine<N> z;
     z.x0 = acc.add(acc.add(acc.mul(a, x.x0), acc.mul(b, y.x0)), c);
     for (int i = 0; i < N; ++i) z.xi[i] = acc.add(acc.mul(a, x.xi[i]), acc.mul(b, y.xi[i]));
-    const double ex = acc.rnd.add_up(acc.rnd.mul_up(std::fabs(a), x.err),
-                                     acc.rnd.mul_up(std::fabs(b), y.err));
+    const double ex =
+        acc.rnd.add_up(acc.rnd.mul_up(std::fabs(a), x.err), acc.rnd.mul_up(std::fabs(b), y.err));
     z.err = acc.rnd.add_up(ex, acc.err);
     z.defined = def;
     return z;
@@ -156,8 +170,8 @@ Affine<N> combine(double a, const Affine<N>& x, double b, const Affine<N>& y, do
 /// ζ = a point of D, δ = its distance to D's far end. Falls back to from_interval(fx) when a
 /// coefficient is not finite or when δ alone exceeds the radius of fx (correlation lost anyway).
 template <int N>
-Affine<N> linear_image(double alpha, const Affine<N>& x, const UpInterval& d,
-                       const UpInterval& fx, bool def) {
+Affine<N> linear_image(double alpha, const Affine<N>& x, const UpInterval& d, const UpInterval& fx,
+                       bool def) {
     if (d.is_empty() || !std::isfinite(alpha)) return form_of<N>(fx, def);
     double delta = 0.0;
     const double c = center_of(d, delta);
@@ -320,11 +334,26 @@ Affine<N> operator*(double c, const Affine<N>& x) {
     Affine<N> z = detail::combine(c, x, 0.0, x, 0.0, x.defined);
     return detail::is_finite_form(z) ? z : detail::unary_fallback(x, f);
 }
-template <int N> Affine<N> operator*(const Affine<N>& x, double c) { return c * x; }
-template <int N> Affine<N> operator+(const Affine<N>& x, double c) { return x + Affine<N>(c); }
-template <int N> Affine<N> operator+(double c, const Affine<N>& x) { return Affine<N>(c) + x; }
-template <int N> Affine<N> operator-(const Affine<N>& x, double c) { return x - Affine<N>(c); }
-template <int N> Affine<N> operator-(double c, const Affine<N>& x) { return Affine<N>(c) - x; }
+template <int N>
+Affine<N> operator*(const Affine<N>& x, double c) {
+    return c * x;
+}
+template <int N>
+Affine<N> operator+(const Affine<N>& x, double c) {
+    return x + Affine<N>(c);
+}
+template <int N>
+Affine<N> operator+(double c, const Affine<N>& x) {
+    return Affine<N>(c) + x;
+}
+template <int N>
+Affine<N> operator-(const Affine<N>& x, double c) {
+    return x - Affine<N>(c);
+}
+template <int N>
+Affine<N> operator-(double c, const Affine<N>& x) {
+    return Affine<N>(c) - x;
+}
 
 /// x̂·ŷ = x0 y0 + Σ (x0 y_i + y0 x_i) ε_i + r̂x r̂y with |r̂x r̂y| ≤ Rx Ry (R = Σ|c_i| + err);
 /// err = |y0| ex + |x0| ey + Rx Ry + rounding.
@@ -344,8 +373,8 @@ Affine<N> operator*(const Affine<N>& x, const Affine<N>& y) {
         rx = rnd.add_up(rx, std::fabs(x.xi[i]));
         ry = rnd.add_up(ry, std::fabs(y.xi[i]));
     }
-    const double lin = rnd.add_up(rnd.mul_up(std::fabs(y.x0), x.err),
-                                  rnd.mul_up(std::fabs(x.x0), y.err));
+    const double lin =
+        rnd.add_up(rnd.mul_up(std::fabs(y.x0), x.err), rnd.mul_up(std::fabs(x.x0), y.err));
     z.err = rnd.add_up(rnd.add_up(lin, rnd.mul_up(rx, ry)), acc.err);
     z.defined = x.defined && y.defined;
     return detail::is_finite_form(z) ? z : detail::binary_fallback(x, y, f);
@@ -398,8 +427,8 @@ Affine<N> pow(const Affine<N>& x, unsigned n) {
         const UpInterval u = xr.lower() > 0 ? au : -au;
         return detail::chebyshev(x, xr, f, alpha, u, f(xr), x.defined);
     }
-    return detail::taylor(x, xr, pow(m, n), pow(m, n - 1) * dn,
-                          pow(xr, n - 2) * (dn * (dn - 1.0)), f(xr), x.defined);
+    return detail::taylor(x, xr, pow(m, n), pow(m, n - 1) * dn, pow(xr, n - 2) * (dn * (dn - 1.0)),
+                          f(xr), x.defined);
 }
 
 /// √ on the range [a, b] (b ≥ 0): a < 0 → interval fallback, not defined; a = b → the point;
@@ -468,13 +497,18 @@ Affine<N> operator/(const Affine<N>& x, const Affine<N>& y) {
     RoundingScope scope;
     const UpInterval yr = y.range_up();
     if (!detail::is_finite_form(x) || !detail::is_finite_form(y) || contains(yr, 0.0))
-        return detail::binary_fallback(x, y, [](const UpInterval& a, const UpInterval& b) {
-            return a / b;
-        });
+        return detail::binary_fallback(
+            x, y, [](const UpInterval& a, const UpInterval& b) { return a / b; });
     return x * reciprocal(y);
 }
-template <int N> Affine<N> operator/(const Affine<N>& x, double c) { return x / Affine<N>(c); }
-template <int N> Affine<N> operator/(double c, const Affine<N>& x) { return Affine<N>(c) / x; }
+template <int N>
+Affine<N> operator/(const Affine<N>& x, double c) {
+    return x / Affine<N>(c);
+}
+template <int N>
+Affine<N> operator/(double c, const Affine<N>& x) {
+    return Affine<N>(c) / x;
+}
 
 /// sin: range radius ≤ 1 → Taylor form about x0 with f'' = −sin over the range; wider → Interval.
 template <int N>
@@ -545,10 +579,22 @@ Affine<N> max(const Affine<N>& x, const Affine<N>& y) {
     return z;
 }
 
-template <int N> Affine<N>& operator+=(Affine<N>& a, const Affine<N>& b) { return a = a + b; }
-template <int N> Affine<N>& operator-=(Affine<N>& a, const Affine<N>& b) { return a = a - b; }
-template <int N> Affine<N>& operator*=(Affine<N>& a, const Affine<N>& b) { return a = a * b; }
-template <int N> Affine<N>& operator/=(Affine<N>& a, const Affine<N>& b) { return a = a / b; }
+template <int N>
+Affine<N>& operator+=(Affine<N>& a, const Affine<N>& b) {
+    return a = a + b;
+}
+template <int N>
+Affine<N>& operator-=(Affine<N>& a, const Affine<N>& b) {
+    return a = a - b;
+}
+template <int N>
+Affine<N>& operator*=(Affine<N>& a, const Affine<N>& b) {
+    return a = a * b;
+}
+template <int N>
+Affine<N>& operator/=(Affine<N>& a, const Affine<N>& b) {
+    return a = a / b;
+}
 
 static_assert(Enclosure<Affine<1>>);
 static_assert(Enclosure<Affine<3>>);

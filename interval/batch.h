@@ -10,9 +10,8 @@
 // instruction over the lanes (docs/benchmarks.md, "Expression evaluation (issue 3)").
 #pragma once
 
-#include <cmath>
-
 #include <Eigen/Core>
+#include <cmath>
 
 #include "interval/number.h"
 
@@ -84,13 +83,21 @@ inline Batch pow(Batch x, unsigned n) {
 /// for a < 0).
 inline Batch sqrt(const Batch& a) { return Batch(a.v.sqrt()); }
 /// eᵃ lane by lane with libm's exp.
-inline Batch exp(const Batch& a) { return detail::lanewise(a, [](double x) { return std::exp(x); }); }
+inline Batch exp(const Batch& a) {
+    return detail::lanewise(a, [](double x) { return std::exp(x); });
+}
 /// ln a lane by lane with libm's log (NaN for a < 0, −inf at 0).
-inline Batch log(const Batch& a) { return detail::lanewise(a, [](double x) { return std::log(x); }); }
+inline Batch log(const Batch& a) {
+    return detail::lanewise(a, [](double x) { return std::log(x); });
+}
 /// sin a lane by lane with libm's sin.
-inline Batch sin(const Batch& a) { return detail::lanewise(a, [](double x) { return std::sin(x); }); }
+inline Batch sin(const Batch& a) {
+    return detail::lanewise(a, [](double x) { return std::sin(x); });
+}
 /// cos a lane by lane with libm's cos.
-inline Batch cos(const Batch& a) { return detail::lanewise(a, [](double x) { return std::cos(x); }); }
+inline Batch cos(const Batch& a) {
+    return detail::lanewise(a, [](double x) { return std::cos(x); });
+}
 
 /// min lane by lane, propagating NaN. Written as certray::min(double, double)'s own rule,
 /// (a < b or a is NaN) ? a : b, as a vector compare and blend: Eigen's

@@ -42,13 +42,13 @@ bool narrow(double a, double b) {
 }
 
 class Solver {
-public:
+  public:
     Solver(const expr::Tape& tape, const Ray& ray, const CertifiedOptions& options, Scratch& s)
         : tape_(tape), ray_(ray), options_(options), s_(s) {}
 
     RayResult solve();
 
-private:
+  private:
     bool out_of_budget() const { return result_.evals.total() >= options_.budget; }
 
     /// G(T): g over the parameter interval T.
@@ -142,7 +142,8 @@ RayResult Solver::hit(Interval t) {
         // Split at the midpoint; where g's sign there is undecided (the split hit the root
         // itself, say), at the quarter points instead.
         const double m = midpoint(t);
-        const double splits[3] = {m, midpoint(Interval(t.lower(), m)), midpoint(Interval(m, t.upper()))};
+        const double splits[3] = {m, midpoint(Interval(t.lower(), m)),
+                                  midpoint(Interval(m, t.upper()))};
         bool progress = false;
         for (double p : splits) {
             if (!(t.lower() < p && p < t.upper())) continue;

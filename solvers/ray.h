@@ -27,9 +27,12 @@ enum class Status : std::uint8_t { Hit, Miss, Unknown };
 
 constexpr std::string_view name(Status s) noexcept {
     switch (s) {
-        case Status::Hit: return "hit";
-        case Status::Miss: return "miss";
-        case Status::Unknown: return "unknown";
+        case Status::Hit:
+            return "hit";
+        case Status::Miss:
+            return "miss";
+        case Status::Unknown:
+            return "unknown";
     }
     return "?";
 }

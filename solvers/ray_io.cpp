@@ -55,8 +55,11 @@ std::pair<std::size_t, std::size_t> trim(std::string_view s, std::size_t begin, 
 /// A field's text for an error message, cut to a readable length.
 std::string quote(std::string_view text) {
     constexpr std::size_t kMax = 40;
-    if (text.size() > kMax) return "'" + std::string(text.substr(0, kMax)) + "...'";
-    return "'" + std::string(text) + "'";
+    std::string out = "'";
+    out += text.substr(0, kMax);
+    if (text.size() > kMax) out += "...";
+    out += '\'';
+    return out;
 }
 
 /// Parses a whole field as a finite double: decimal (std::chars_format::general) or hex-float
@@ -154,7 +157,9 @@ std::vector<Ray> read_rays_csv(std::istream& in, std::string_view filename) {
             const std::string error =
                 parse_number(std::string_view(line).substr(b, e - b), v[f]);
             if (!error.empty()) {
-                fail(filename, lineno, b + 1, "field '" + std::string(kFields[f]) + "': " + error);
+                // An empty field is reported where it starts, a non-empty one at its first byte.
+                fail(filename, lineno, (b == e ? pos : b) + 1,
+                     "field '" + std::string(kFields[f]) + "': " + error);
             }
             pos = end + 1;
         }

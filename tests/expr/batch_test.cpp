@@ -2,7 +2,8 @@
 #include "interval/batch.h"
 // eval.h before builder.h: builder.h declares expr::min, sqrt, … which, seen first, would hide
 // certray::min(double, double) etc. from the unqualified calls in detail::run.
-#include "expr/eval.h"
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
 
 #include <array>
 #include <bit>
@@ -12,10 +13,8 @@
 #include <random>
 #include <vector>
 
-#include <gtest/gtest.h>
-#include <rapidcheck/gtest.h>
-
 #include "expr/builder.h"
+#include "expr/eval.h"
 #include "expr/graph.h"
 #include "expr/tape.h"
 #include "tests/support/generators.h"
@@ -36,7 +35,7 @@ bool same(double a, double b) {
 /// kBatch points: the special values first (zeros of both signs, ±inf, NaN, tiny, huge), then
 /// pseudo-random points in [-span, span]³.
 std::array<Batch, 3> points(unsigned seed, double span) {
-    const std::vector<double> special = {0.0,  -0.0, 1.0,    -1.0,    kInf,   -kInf,
+    const std::vector<double> special = {0.0,  -0.0,   1.0,     -1.0,  kInf,   -kInf,
                                          kNaN, 1e-310, -1e-310, 1e300, -1e300, 0.5};
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(-span, span);
@@ -44,8 +43,8 @@ std::array<Batch, 3> points(unsigned seed, double span) {
     for (int i = 0; i < kBatch; ++i) {
         for (int k = 0; k < 3; ++k) {
             const std::size_t j = static_cast<std::size_t>(i * 3 + k);
-            p[k][i] = (i < 24) ? special[(j * 7 + static_cast<std::size_t>(i)) % special.size()]
-                               : u(rng);
+            p[k][i] =
+                (i < 24) ? special[(j * 7 + static_cast<std::size_t>(i)) % special.size()] : u(rng);
         }
     }
     return p;
@@ -59,8 +58,8 @@ void expect_lanes_match(const Graph& g, const std::array<Batch, 3>& p) {
     Evaluator<double> ed;
     for (int i = 0; i < kBatch; ++i) {
         const double d = ed(t, {p[0][i], p[1][i], p[2][i]});
-        EXPECT_TRUE(same(r[i], d)) << "lane " << i << " at (" << p[0][i] << ", " << p[1][i]
-                                   << ", " << p[2][i] << "): batch " << r[i] << ", double " << d;
+        EXPECT_TRUE(same(r[i], d)) << "lane " << i << " at (" << p[0][i] << ", " << p[1][i] << ", "
+                                   << p[2][i] << "): batch " << r[i] << ", double " << d;
     }
 }
 

@@ -7,6 +7,10 @@
 // Runs are reproducible with RC_PARAMS="seed=N".
 #include "interval/affine.h"
 
+#include <gtest/gtest.h>
+#include <mpfr.h>
+#include <rapidcheck/gtest.h>
+
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -14,10 +18,6 @@
 #include <string>
 #include <type_traits>
 #include <utility>
-
-#include <gtest/gtest.h>
-#include <mpfr.h>
-#include <rapidcheck/gtest.h>
 
 #include "tests/support/generators.h"
 
@@ -260,8 +260,8 @@ bool pointwise(const Affine<N>& z, const Symbols<N>& eps, const Big& v) {
     return mpfr_lessequal_p(lo.lo, v.lo) && mpfr_lessequal_p(v.hi, hi.hi);
 }
 
-/// op(x̂) for x̂ = variable(box): at kPointsPerBox random values of x̂, for kBoxesPerCase random boxes, the exact value
-/// lies in to_interval() and in the result form at the same symbols.
+/// op(x̂) for x̂ = variable(box): at kPointsPerBox random values of x̂, for kBoxesPerCase random
+/// boxes, the exact value lies in to_interval() and in the result form at the same symbols.
 template <class Op>
 void check_unary(Op op) {
     for (int k = 0; k < kBoxesPerCase; ++k) {
@@ -303,10 +303,12 @@ void check_binary(Op op) {
     }
 }
 
-#define CERTRAY_AFFINE_UNARY(name, expr) \
-    RC_GTEST_PROP(AffineContains, name, ()) { check_unary([](const auto& x) { return expr; }); }
-#define CERTRAY_AFFINE_BINARY(name, expr)                                        \
-    RC_GTEST_PROP(AffineContains, name, ()) {                                    \
+#define CERTRAY_AFFINE_UNARY(name, expr)                 \
+    RC_GTEST_PROP(AffineContains, name, ()) {            \
+        check_unary([](const auto& x) { return expr; }); \
+    }
+#define CERTRAY_AFFINE_BINARY(name, expr)                                \
+    RC_GTEST_PROP(AffineContains, name, ()) {                            \
         check_binary([](const auto& x, const auto& y) { return expr; }); \
     }
 
@@ -328,7 +330,7 @@ CERTRAY_AFFINE_UNARY(Cos, cos(x))
 CERTRAY_AFFINE_UNARY(Reciprocal, 1.0 / x)
 // Correlated: the same symbol twice.
 CERTRAY_AFFINE_UNARY(SelfSub, x - x)
-CERTRAY_AFFINE_UNARY(SelfMul, x * x)
+CERTRAY_AFFINE_UNARY(SelfMul, x* x)
 CERTRAY_AFFINE_UNARY(SelfDiv, x / (x * x + 1.0))
 CERTRAY_AFFINE_UNARY(SelfMin, min(x, 1.0 - x))
 CERTRAY_AFFINE_UNARY(SelfMax, max(x * 0.5, x - 1.0))
@@ -341,11 +343,11 @@ CERTRAY_AFFINE_UNARY(ExpOfSin, exp(sin(x)) * abs(x))
 
 CERTRAY_AFFINE_BINARY(Add, x + y)
 CERTRAY_AFFINE_BINARY(Sub, x - y)
-CERTRAY_AFFINE_BINARY(Mul, x * y)
+CERTRAY_AFFINE_BINARY(Mul, x* y)
 CERTRAY_AFFINE_BINARY(Div, x / y)
 CERTRAY_AFFINE_BINARY(Min, min(x, y))
 CERTRAY_AFFINE_BINARY(Max, max(x, y))
-CERTRAY_AFFINE_BINARY(Mixed, x * y - square(x) + y / (abs(x) + 1.0))
+CERTRAY_AFFINE_BINARY(Mixed, x* y - square(x) + y / (abs(x) + 1.0))
 
 /// Random compositions of three unary steps on a moderate box.
 RC_GTEST_PROP(AffineContains, RandomChains, ()) {
@@ -357,16 +359,36 @@ RC_GTEST_PROP(AffineContains, RandomChains, ()) {
     auto apply = [&](auto v) {
         for (int s : steps) {
             switch (s) {
-                case 0: v = square(v); break;
-                case 1: v = sqrt(v); break;
-                case 2: v = exp(v); break;
-                case 3: v = log(v); break;
-                case 4: v = sin(v); break;
-                case 5: v = cos(v); break;
-                case 6: v = abs(v) - 0.25; break;
-                case 7: v = 1.0 / v; break;
-                case 8: v = pow(v, 3u) - v; break;
-                default: v = min(v, v * v); break;
+                case 0:
+                    v = square(v);
+                    break;
+                case 1:
+                    v = sqrt(v);
+                    break;
+                case 2:
+                    v = exp(v);
+                    break;
+                case 3:
+                    v = log(v);
+                    break;
+                case 4:
+                    v = sin(v);
+                    break;
+                case 5:
+                    v = cos(v);
+                    break;
+                case 6:
+                    v = abs(v) - 0.25;
+                    break;
+                case 7:
+                    v = 1.0 / v;
+                    break;
+                case 8:
+                    v = pow(v, 3u) - v;
+                    break;
+                default:
+                    v = min(v, v * v);
+                    break;
             }
         }
         return v;
@@ -481,9 +503,9 @@ TEST(AffineSphere, WidthRatioByBoxSize) {
                     Interval b[3];
                     for (int i = 0; i < 3; ++i) b[i] = Interval(c[i] - h, c[i] + h);
                     const Interval iv = sphere(b[0], b[1], b[2]);
-                    const Interval af = sphere(A3::variable(b[0], 0), A3::variable(b[1], 1),
-                                               A3::variable(b[2], 2))
-                                            .to_interval();
+                    const Interval af =
+                        sphere(A3::variable(b[0], 0), A3::variable(b[1], 1), A3::variable(b[2], 2))
+                            .to_interval();
                     const double ratio = width(af) / width(iv);
                     worst = std::max(worst, ratio);
                     sum += ratio;
@@ -552,7 +574,8 @@ TEST(AffineCases, ExtremeMagnitudes) {
     EXPECT_LE(t2.lower(), 0.0);
     EXPECT_GT(t2.upper(), 0.0);
     const Interval ts = sqrt(tiny).to_interval();
-    EXPECT_TRUE(contains(ts, Interval(std::sqrt(5e-324) * (1 + 1e-15), std::sqrt(2e-323) * (1 - 1e-15))));
+    EXPECT_TRUE(
+        contains(ts, Interval(std::sqrt(5e-324) * (1 + 1e-15), std::sqrt(2e-323) * (1 - 1e-15))));
     EXPECT_TRUE(exp(A1::variable(Interval(700.0, 710.0), 0)).to_interval().upper() >= 1e308);
 }
 

@@ -3,14 +3,14 @@
 // polynomial roots, and properties on random polynomials and random DAGs checked in MPFR.
 #include "solvers/certified.h"
 
+#include <gtest/gtest.h>
+#include <mpfr.h>
+#include <rapidcheck/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <mpfr.h>
-#include <rapidcheck/gtest.h>
 
 #include "expr/eval.h"
 #include "expr/graph.h"
@@ -49,11 +49,11 @@ void expect_hit_at(const RayResult& r, double root, double max_ulps = 8) {
 TEST(Certified, UnitSphereFromOutsideAndInside) {
     const Tape s = tape_of("sqrt(x^2 + y^2 + z^2) - 1");
     expect_hit_at(trace(s, {0, 0, -3}, {0, 0, 1}), 2.0);
-    expect_hit_at(trace(s, {0, 0, 0}, {1, 0, 0}), 1.0);                // starts inside
-    expect_hit_at(trace(s, {0, 0, -3}, {0, 0, 2}), 1.0);               // scaled direction
-    EXPECT_EQ(trace(s, {0, 5, 0}, {1, 0, 0}).status, Status::Miss);    // clear miss
+    expect_hit_at(trace(s, {0, 0, 0}, {1, 0, 0}), 1.0);                       // starts inside
+    expect_hit_at(trace(s, {0, 0, -3}, {0, 0, 2}), 1.0);                      // scaled direction
+    EXPECT_EQ(trace(s, {0, 5, 0}, {1, 0, 0}).status, Status::Miss);           // clear miss
     EXPECT_EQ(trace(s, {0, 0, -3}, {0, 0, 1}, 0, 1.5).status, Status::Miss);  // stops short
-    expect_hit_at(trace(s, {0, 0, -3}, {0, 0, 1}, 2.5), 4.0);          // starts past the first
+    expect_hit_at(trace(s, {0, 0, -3}, {0, 0, 1}, 2.5), 4.0);  // starts past the first
 }
 
 TEST(Certified, AlgebraicSphereNeverMissesATangent) {
@@ -64,7 +64,9 @@ TEST(Certified, AlgebraicSphereNeverMissesATangent) {
     if (r.status != Status::Miss) {
         EXPECT_LE(r.t_lo, 3.0);
     }
-    if (r.status == Status::Hit) EXPECT_GE(r.t_hi, 3.0);
+    if (r.status == Status::Hit) {
+        EXPECT_GE(r.t_hi, 3.0);
+    }
     // Missing by 2⁻⁴⁰: never a hit.
     const RayResult m = trace(s, {-3, 1 + std::ldexp(1.0, -40), 0}, {1, 0, 0});
     EXPECT_NE(m.status, Status::Hit);
@@ -90,21 +92,21 @@ TEST(Certified, TorusRootIsTwoMinusTheDoubleOf035) {
 TEST(Certified, SteepTinyFarAndThinVariants) {
     expect_hit_at(trace(tape_of("1e8 * (sqrt(x^2 + y^2 + z^2) - 1)"), {0, 0, -3}, {0, 0, 1}), 2.0);
     // ×2⁻⁶⁰⁰, an exact power of two.
-    expect_hit_at(trace(tape_of("(sqrt(x^2 + y^2 + z^2) - 1) * 0.5^600"),
-                        {0, 0, -3}, {0, 0, 1}),
+    expect_hit_at(trace(tape_of("(sqrt(x^2 + y^2 + z^2) - 1) * 0.5^600"), {0, 0, -3}, {0, 0, 1}),
                   2.0);
     // A unit sphere centred at (0, 0, 1e6), ray from 3 below its centre.
     // Points on this ray are resolved to ulp(1e6) = 2⁻³³, so that is the width to expect.
-    const RayResult far = trace(tape_of("sqrt(x^2 + y^2 + (z - 1000000)^2) - 1"), {0, 0, 1e6 - 3},
-                                {0, 0, 1});
+    const RayResult far =
+        trace(tape_of("sqrt(x^2 + y^2 + (z - 1000000)^2) - 1"), {0, 0, 1e6 - 3}, {0, 0, 1});
     ASSERT_EQ(far.status, Status::Hit);
     EXPECT_LE(far.t_lo, 2.0);
     EXPECT_GE(far.t_hi, 2.0);
     EXPECT_LE(far.t_hi - far.t_lo, 4 * std::ldexp(1.0, -33));
     // A shell of thickness 2⁻³⁰ around radius 1: | |p| − 1 | − 2⁻³¹ (exact constants).
     const double h = std::ldexp(1.0, -31);
-    const RayResult r = trace(tape_of("abs(sqrt(x^2 + y^2 + z^2) - 1) - 0.0000000004656612873077392578125"),
-                              {0, 0, -3}, {0, 0, 1});
+    const RayResult r =
+        trace(tape_of("abs(sqrt(x^2 + y^2 + z^2) - 1) - 0.0000000004656612873077392578125"),
+              {0, 0, -3}, {0, 0, 1});
     expect_hit_at(r, 2.0 - h);
 }
 
@@ -119,7 +121,7 @@ TEST(Certified, ClusteredRootsOfAPolynomial) {
 TEST(Certified, DegenerateRays) {
     const Tape s = tape_of("sqrt(x^2 + y^2 + z^2) - 1");
     EXPECT_EQ(trace(s, {0, 0, 0}, {0, 0, 0}).status, Status::Miss);  // g ≡ −1
-    const RayResult on = trace(s, {1, 0, 0}, {0, 0, 0}, 0, 5);         // g ≡ 0
+    const RayResult on = trace(s, {1, 0, 0}, {0, 0, 0}, 0, 5);       // g ≡ 0
     EXPECT_EQ(on.status, Status::Hit);
     EXPECT_EQ(on.t_lo, 0.0);
     EXPECT_EQ(trace(s, {0, 0, -3}, {0, 0, 1}, 1, 1).status, Status::Miss);
@@ -194,8 +196,8 @@ RC_GTEST_PROP(CertifiedProperty, NoProvenZeroBeforeTheAnswer, ()) {
     auto seg = [&](double a, double b) {
         std::array<MpfrInterval, 3> p;
         for (int i = 0; i < 3; ++i) {
-            p[i] = MpfrInterval(ray.o[i]) + MpfrInterval(std::min(a, b), std::max(a, b)) *
-                                                MpfrInterval(ray.d[i]);
+            p[i] = MpfrInterval(ray.o[i]) +
+                   MpfrInterval(std::min(a, b), std::max(a, b)) * MpfrInterval(ray.d[i]);
         }
         return expr::eval<MpfrInterval>(t, p);
     };
@@ -206,8 +208,8 @@ RC_GTEST_PROP(CertifiedProperty, NoProvenZeroBeforeTheAnswer, ()) {
         if (!(tk <= end)) break;
         const MpfrInterval cur = seg(tk, tk);
         const MpfrInterval whole = seg(prev_t, tk);
-        const bool opposite = (prev.lower() > 0 && cur.upper() < 0) ||
-                              (prev.upper() < 0 && cur.lower() > 0);
+        const bool opposite =
+            (prev.lower() > 0 && cur.upper() < 0) || (prev.upper() < 0 && cur.lower() > 0);
         const bool zero_inside = tk < end && cur.lower() == 0 && cur.upper() == 0;
         RC_ASSERT(!(opposite && whole.defined && !whole.is_empty()) || tk > end);
         RC_ASSERT(!zero_inside);
