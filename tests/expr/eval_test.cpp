@@ -14,6 +14,8 @@
 #include "expr/graph.h"
 #include "expr/prune.h"
 #include "expr/tape.h"
+#include "interval/affine.h"
+#include "interval/dual.h"
 #include "interval/mpfr_interval.h"
 #include "tests/support/generators.h"
 #include "tests/support/mpfr_oracle.h"
@@ -152,6 +154,37 @@ RC_GTEST_PROP(EvalProperty, IntervalContainsMpfrAtPointsOfTheBox, ()) {
     // The double evaluation at the point agrees with the enclosure where f is defined.
     const double d = eval<double>(t, box.p);
     if (!exact.is_empty() && !std::isnan(d)) RC_ASSERT(contains(r, d) || std::isinf(d));
+}
+
+RC_GTEST_PROP(EvalProperty, AffineContainsMpfrAtPointsOfTheBox, ()) {
+    const Graph g = *testing::gen_dag();
+    const Tape t(g);
+    const Box box = gen_box_and_point();
+    const std::array<Interval, 3> iv = intervals(box);
+    using A = Affine<3>;
+    const A r = eval<A>(t, {A::variable(iv[0], 0), A::variable(iv[1], 1), A::variable(iv[2], 2)});
+    const MpfrInterval exact = eval<MpfrInterval>(
+        t, {MpfrInterval(box.p[0]), MpfrInterval(box.p[1]), MpfrInterval(box.p[2])});
+    RC_ASSERT(testing::encloses(lower(r), upper(r), exact));
+    if (is_defined(r)) RC_ASSERT(!exact.is_empty());
+}
+
+RC_GTEST_PROP(EvalProperty, IntervalGradientContainsMpfrGradient, ()) {
+    const Graph g = *testing::gen_dag();
+    const Tape t(g);
+    const Box box = gen_box_and_point();
+    const Dual<Interval, 3> d = interval_gradient(t, intervals(box));
+    using M = Dual<MpfrInterval, 3>;
+    const M exact =
+        eval<M>(t, {M::variable(MpfrInterval(box.p[0]), 0), M::variable(MpfrInterval(box.p[1]), 1),
+                    M::variable(MpfrInterval(box.p[2]), 2)});
+    RC_ASSERT(testing::encloses(d.a.lower(), d.a.upper(), exact.a));
+    // Where f is defined and continuous on the box, each partial at the point lies in the
+    // box's partial enclosure.
+    if (!d.a.defined || exact.a.is_empty()) return;
+    for (int i = 0; i < 3; ++i) {
+        RC_ASSERT(testing::encloses(d.v[i].lower(), d.v[i].upper(), exact.v[i]));
+    }
 }
 
 RC_GTEST_PROP(EvalProperty, PrunedTapeAgreesInsideItsBox, ()) {
