@@ -1,8 +1,10 @@
 // apps/certray.cpp — the certray command line: parses arguments and calls the library.
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -36,26 +38,29 @@ int main(int argc, char** argv) {
         "Find the first surface crossing f = 0 along each ray of RAYS.csv and write one line per "
         "ray (hit, miss or unknown, with an enclosure [t_lo, t_hi] and a point t) to HITS.csv");
     cmd_query->add_option("scene", query.scene, "Scene file (.expr or .vm)")->required();
-    cmd_query->add_option("--rays", query.rays,
-                          "Rays to query: CSV with the header ox,oy,oz,dx,dy,dz,tmin,tmax and "
-                          "finite numbers (decimal or hex-float)")
+    cmd_query
+        ->add_option("--rays", query.rays,
+                     "Rays to query: CSV with the header ox,oy,oz,dx,dy,dz,tmin,tmax and "
+                     "finite numbers (decimal or hex-float)")
         ->required();
-    cmd_query->add_option("--method", query.method, "Root-finding method; available: " + method_list)
+    cmd_query
+        ->add_option("--method", query.method, "Root-finding method; available: " + method_list)
         ->required();
-    cmd_query->add_option("--out", query.out,
-                          "HITS.csv to write (header status,t_lo,t_hi,t; rays in input order; "
-                          "written to OUT.tmp, then renamed)")
+    cmd_query
+        ->add_option("--out", query.out,
+                     "HITS.csv to write (header status,t_lo,t_hi,t; rays in input order; "
+                     "written to OUT.tmp, then renamed)")
         ->required();
     cmd_query->add_option("--stats", query.stats,
                           "Also write STATS.json: method, rays, solve seconds, threads, "
                           "evaluation counts by kind, per-ray evaluations, status counts");
-    cmd_query->add_option("--budget", query.budget,
-                          "Most whole-tape evaluations per ray before answering unknown "
-                          "(certified)")
+    cmd_query
+        ->add_option("--budget", query.budget,
+                     "Most whole-tape evaluations per ray before answering unknown "
+                     "(certified)")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
-    cmd_query->add_option("--threads", query.threads,
-                          "Worker threads (0: one per hardware thread)")
+        ->check(CLI::Range(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max()));
+    cmd_query->add_option("--threads", query.threads, "Worker threads (0: one per hardware thread)")
         ->capture_default_str();
 
     CLI11_PARSE(app, argc, argv);

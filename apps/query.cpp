@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <cstring>
@@ -83,8 +84,8 @@ class AtomicOutput {
         std::error_code ec;
         std::filesystem::rename(tmp_, path_, ec);
         if (ec) {
-            throw std::runtime_error("cannot rename '" + tmp_.string() + "' to '" +
-                                     path_.string() + "': " + ec.message());
+            throw std::runtime_error("cannot rename '" + tmp_.string() + "' to '" + path_.string() +
+                                     "': " + ec.message());
         }
         open_ = false;
     }
@@ -147,7 +148,9 @@ std::vector<RayResult> solve_all(const expr::Tape& tape, const std::vector<Ray>&
             }
             const std::size_t d = done.load(std::memory_order_relaxed);
             std::fprintf(stderr, "\rcertray query: %zu / %zu rays (%.0f%%)", d, n,
-                         n == 0 ? 100.0 : 100.0 * static_cast<double>(d) / static_cast<double>(n));
+                         n == 0
+                             ? 100.0
+                             : std::floor(100.0 * static_cast<double>(d) / static_cast<double>(n)));
             std::fflush(stderr);
             printed = true;
         }
@@ -159,8 +162,7 @@ std::vector<RayResult> solve_all(const expr::Tape& tape, const std::vector<Ray>&
 }
 
 nlohmann::json make_stats(const QueryOptions& options, const expr::Tape& tape,
-                          const std::vector<RayResult>& results, double seconds,
-                          unsigned threads) {
+                          const std::vector<RayResult>& results, double seconds, unsigned threads) {
     EvalCounts sum;
     std::uint64_t max_total = 0;
     std::uint64_t counts[3] = {0, 0, 0};
@@ -169,9 +171,9 @@ nlohmann::json make_stats(const QueryOptions& options, const expr::Tape& tape,
         max_total = std::max(max_total, r.evals.total());
         ++counts[static_cast<int>(r.status)];
     }
-    const double mean = results.empty() ? 0.0
-                                        : static_cast<double>(sum.total()) /
-                                              static_cast<double>(results.size());
+    const double mean =
+        results.empty() ? 0.0
+                        : static_cast<double>(sum.total()) / static_cast<double>(results.size());
     nlohmann::json j;
     j["method"] = options.method;
     j["scene"] = options.scene;
@@ -230,8 +232,8 @@ int run_query(const QueryOptions& options) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     write_hits_csv(hits.stream(), results);
-    if (stats) stats->stream() << make_stats(options, tape, results, seconds, threads).dump(2)
-                               << "\n";
+    if (stats)
+        stats->stream() << make_stats(options, tape, results, seconds, threads).dump(2) << "\n";
     hits.commit();
     if (stats) stats->commit();
     return 0;

@@ -13,13 +13,13 @@
 namespace certray::apps {
 
 struct QueryOptions {
-    std::string scene;            ///< the scene file (.expr or .vm)
-    std::string rays;             ///< RAYS.csv
-    std::string method;           ///< a name from query_methods()
-    std::string out;              ///< HITS.csv to write
-    std::string stats;            ///< STATS.json to write; empty for none
-    std::uint64_t budget = 20000; ///< the most whole-tape evaluations per ray (certified)
-    unsigned threads = 0;         ///< worker threads; 0 means std::thread::hardware_concurrency()
+    std::string scene;             ///< the scene file (.expr or .vm)
+    std::string rays;              ///< RAYS.csv
+    std::string method;            ///< a name from query_methods()
+    std::string out;               ///< HITS.csv to write
+    std::string stats;             ///< STATS.json to write; empty for none
+    std::uint64_t budget = 20000;  ///< the most whole-tape evaluations per ray (certified)
+    unsigned threads = 0;          ///< worker threads; 0 means std::thread::hardware_concurrency()
 };
 
 /// The names accepted by QueryOptions::method.

@@ -14,7 +14,7 @@
 namespace certray {
 namespace {
 
-constexpr std::array<std::string_view, 8> kFields = {"ox", "oy", "oz", "dx",
+constexpr std::array<std::string_view, 8> kFields = {"ox", "oy", "oz",   "dx",
                                                      "dy", "dz", "tmin", "tmax"};
 constexpr std::string_view kHeader = "ox,oy,oz,dx,dy,dz,tmin,tmax";
 
@@ -154,8 +154,7 @@ std::vector<Ray> read_rays_csv(std::istream& in, std::string_view filename) {
                      "expected 8 fields (" + std::string(kHeader) + "), found more");
             }
             const auto [b, e] = trim(line, pos, end);
-            const std::string error =
-                parse_number(std::string_view(line).substr(b, e - b), v[f]);
+            const std::string error = parse_number(std::string_view(line).substr(b, e - b), v[f]);
             if (!error.empty()) {
                 // An empty field is reported where it starts, a non-empty one at its first byte.
                 fail(filename, lineno, (b == e ? pos : b) + 1,

@@ -49,7 +49,8 @@ TEST(ReadRays, ParsesDecimalRays) {
 
 TEST(ReadRays, ParsesHexFloatsAndSigns) {
     const auto rays =
-        read(std::string(kHeader) + "0x1.8p+1,-0x1p-1074,+0X10,0x0p0,-0,+2.5,0x1p-3,0x1.fffffffffffffp+1023\n");
+        read(std::string(kHeader) +
+             "0x1.8p+1,-0x1p-1074,+0X10,0x0p0,-0,+2.5,0x1p-3,0x1.fffffffffffffp+1023\n");
     ASSERT_EQ(rays.size(), 1u);
     EXPECT_EQ(rays[0].o[0], 3.0);
     EXPECT_EQ(rays[0].o[1], -std::numeric_limits<double>::denorm_min());
@@ -129,9 +130,9 @@ TEST(ReadRays, MalformedNumbers) {
     EXPECT_EQ(error_of(h + "0,0,0,0,0,1,0,1;2\n"),
               "rays.csv:2:15: field 'tmax': expected a number, found '1;2'");
     const std::string long_field(100, '7');
-    EXPECT_EQ(error_of(h + long_field + "z,0,0,0,0,1,0,1\n"),
-              "rays.csv:2:1: field 'ox': expected a number, found '" + std::string(40, '7') +
-                  "...'");
+    EXPECT_EQ(
+        error_of(h + long_field + "z,0,0,0,0,1,0,1\n"),
+        "rays.csv:2:1: field 'ox': expected a number, found '" + std::string(40, '7') + "...'");
 }
 
 TEST(ReadRays, WrongFieldCounts) {
@@ -256,7 +257,8 @@ TEST(WriteHits, RoundTripsEveryDoubleBitForBit) {
             if (std::isnan(expect[k])) {
                 EXPECT_TRUE(std::isnan(back)) << line;
             } else {
-                EXPECT_EQ(std::bit_cast<std::uint64_t>(back), std::bit_cast<std::uint64_t>(expect[k]))
+                EXPECT_EQ(std::bit_cast<std::uint64_t>(back),
+                          std::bit_cast<std::uint64_t>(expect[k]))
                     << f[k + 1];
             }
         }
