@@ -9,3 +9,17 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc)" --target certray_cli
 build/apps/certray inspect scenes/*.expr scenes/[a-o]*.vm scenes/[q-z]*.vm --bounds -2 2 --levels 4
 build/apps/certray inspect scenes/prospero.vm --bounds -1 1 --levels 6
+# Certified ray queries: 256 rays of scenes/rays.csv against each 3D scene of the gallery.
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+for scene in scenes/*.expr scenes/[a-o]*.vm scenes/[q-z]*.vm; do
+    build/apps/certray query "$scene" --rays scenes/rays.csv --method certified \
+        --out "$out/hits.csv" --stats "$out/stats.json"
+    python3 - "$scene" "$out/stats.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[2]))
+st, ev = s["status"], s["evaluations_per_ray"]
+print(f"{sys.argv[1]:28s} certified: {st['hit']:3d} hit {st['miss']:3d} miss {st['unknown']:3d} unknown"
+      f"  evaluations/ray mean {ev['mean']:7.1f} max {ev['max']:5d}  {s['seconds'] * 1e3:7.1f} ms")
+PY
+done
