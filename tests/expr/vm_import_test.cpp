@@ -17,6 +17,7 @@
 
 #include "expr/input_error.h"
 #include "expr/parser.h"
+#include "tests/support/graph_eval.h"
 
 namespace certray::expr {
 namespace {
@@ -32,77 +33,8 @@ std::string slurp(const std::filesystem::path& p) {
     return ss.str();
 }
 
-// Test-only evaluator of a Graph on doubles (a plain switch over the ops).
 double eval(const Graph& g, double x, double y, double z) {
-    std::vector<double> v(g.size());
-    for (NodeId id : g.topological_order()) {
-        const Node& n = g.node(id);
-        const double a = n.a.valid() ? v[n.a.value] : 0.0;
-        const double b = n.b.valid() ? v[n.b.value] : 0.0;
-        double r = 0.0;
-        switch (n.op) {
-            case Op::Const:
-                r = n.constant;
-                break;
-            case Op::VarX:
-                r = x;
-                break;
-            case Op::VarY:
-                r = y;
-                break;
-            case Op::VarZ:
-                r = z;
-                break;
-            case Op::Neg:
-                r = -a;
-                break;
-            case Op::Abs:
-                r = std::fabs(a);
-                break;
-            case Op::Square:
-                r = a * a;
-                break;
-            case Op::Sqrt:
-                r = std::sqrt(a);
-                break;
-            case Op::Exp:
-                r = std::exp(a);
-                break;
-            case Op::Log:
-                r = std::log(a);
-                break;
-            case Op::Sin:
-                r = std::sin(a);
-                break;
-            case Op::Cos:
-                r = std::cos(a);
-                break;
-            case Op::Add:
-                r = a + b;
-                break;
-            case Op::Sub:
-                r = a - b;
-                break;
-            case Op::Mul:
-                r = a * b;
-                break;
-            case Op::Div:
-                r = a / b;
-                break;
-            case Op::Min:
-                r = std::fmin(a, b);
-                break;
-            case Op::Max:
-                r = std::fmax(a, b);
-                break;
-            case Op::Pow:
-                r = 1.0;
-                for (std::uint32_t k = 0; k < n.exponent; ++k) r *= a;
-                break;
-        }
-        v[id.value] = r;
-    }
-    return v[g.output().value];
+    return testing::eval_graph(g, x, y, z);
 }
 
 // An independent route: interpret the .vm text line by line with a map from id to value, without
