@@ -1,6 +1,7 @@
 // expr/prune.cpp — pruning by min/max choices recorded during one interval evaluation of the SSA.
 #include "expr/prune.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -44,6 +45,10 @@ PruneResult prune(const Tape& tape, const std::array<Interval, 3>& box) {
                 keep[in.out] = Keep::Constant;
             }
         });
+    }
+    // Nothing to drop or fold (every instruction of a compiled tape is live): the tape as it is.
+    if (std::all_of(keep.begin(), keep.end(), [](Keep k) { return k == Keep::Both; })) {
+        return PruneResult{tape, n, n, Interval(v[n - 1])};
     }
     // alias[i]: the SSA index whose value instruction i's value equals on the box.
     std::vector<std::uint32_t> alias(n);
