@@ -125,9 +125,11 @@ Graph import_vm(std::string_view text, std::string_view filename) {
         const int nargs = static_cast<int>(w.size()) - 2;
         const int want = expected_args(oc.kind);
         if (nargs != want) {
-            fail(nargs > want ? w[2 + want].column : opword.column,
-                 "'" + std::string(opword.text) + "' takes " + std::to_string(want) +
-                     (want == 1 ? " argument" : " arguments") + ", got " + std::to_string(nargs));
+            std::string msg(1, '\'');  // built by appending: GCC 12 warns falsely on "'" + s
+            msg.append(opword.text).append("' takes ").append(std::to_string(want));
+            msg.append(want == 1 ? " argument" : " arguments").append(", got ");
+            msg.append(std::to_string(nargs));
+            fail(nargs > want ? w[2 + want].column : opword.column, msg);
         }
         auto arg = [&](int k) -> NodeId {
             const Word& a = w[2 + k];
