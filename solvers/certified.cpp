@@ -192,66 +192,66 @@ RayResult Solver::solve() {
         cand_hi = std::isnan(cand_hi) ? t.upper() : std::max(cand_hi, t.upper());
     };
 
+    // The narrowest interval proven so far to hold a zero, with nothing but excluded parts and
+    // candidates to its left. A wide proof does not end the search: bisection goes on to narrow it.
+    double proof_lo = std::numeric_limits<double>::quiet_NaN();
+    double proof_hi = proof_lo;
+    auto prove = [&](double lo, double hi) {
+        if (std::isnan(proof_hi) || hi <= proof_hi) {
+            proof_lo = lo;
+            proof_hi = hi;
+        }
+    };
+    // A zero is proven in [lo, hi] and the search has resolved, left to right, everything before
+    // it: the first zero lies in [first candidate or lo, hi]. hit() narrows that.
+    auto answer = [&](double lo, double hi) {
+        return hit(Interval(std::isnan(cand_lo) ? lo : cand_lo, hi));
+    };
+
     while (!stack.empty()) {
+        if (!std::isnan(proof_hi) && stack.back().lower() >= proof_hi) break;
         if (out_of_budget()) {
+            if (!std::isnan(proof_hi)) return answer(proof_lo, proof_hi);
             // Everything left of the leftmost pending interval is resolved.
             const double lo = std::isnan(cand_lo) ? stack.back().lower() : cand_lo;
             return finish(Status::Unknown, lo, ray_.tmax);
         }
         Interval t = stack.back();
         stack.pop_back();
+        if (!std::isnan(proof_hi) && t.upper() > proof_hi) t = Interval(t.lower(), proof_hi);
         const Interval gt = g(t);
         if (!possibly_zero(gt)) continue;  // excluded (also when g is undefined on all of T)
 
-        // An exact zero at the left end is the first zero.
-        if (gt.lower() == 0 && gt.upper() == 0 && gt.defined) {
-            const double lo = std::isnan(cand_lo) ? t.lower() : cand_lo;
-            return finish(Status::Hit, lo, t.lower());
-        }
+        // g ≡ 0 on T: its left end is the first zero.
+        if (gt.lower() == 0 && gt.upper() == 0 && gt.defined) return answer(t.lower(), t.lower());
 
         const D1 gd = g_dual(t);
         bool unique = false;
         const Interval contracted = newton(t, gd, unique);
         if (contracted.is_empty()) continue;  // Newton: no zero in T
-        if (unique) {
-            if (!std::isnan(cand_lo)) {
-                // A zero is proven in `contracted`, none before cand_lo: the first zero lies in
-                // [cand_lo, contracted.hi].
-                return finish(Status::Hit, cand_lo, contracted.upper());
-            }
-            return hit(contracted);
-        }
+        if (unique) return answer(contracted.lower(), contracted.upper());
         const double a = contracted.lower(), b = contracted.upper();
-        // A sign change over T where g is defined and continuous proves a zero in T (the first
-        // zero then lies in T, or in the candidate before it).
-        if (gd.a.defined && std::isfinite(a) && std::isfinite(b)) {
+        const bool leaf = !splittable(a, b) || narrow(a, b);
+        // A sign change over T where g is defined and continuous (or an exact zero at an end)
+        // proves a zero in T.
+        if (std::isfinite(a) && std::isfinite(b)) {
             const int sa = sign_at(a);
             const int sb = sign_at(b);
-            if (sa == 0 || (sa != 2 && sb != 2 && sa != sb)) {
-                if (!std::isnan(cand_lo)) return finish(Status::Hit, cand_lo, b);
-                return hit(contracted);
+            if (sa == 0) return answer(a, a);
+            if (sb == 0 || (gd.a.defined && sa != 2 && sb != 2 && sa != sb)) {
+                if (leaf) return answer(a, b);
+                prove(a, b);
             }
         }
-        if (!splittable(a, b) || narrow(a, b)) {
-            // A leaf: prove a zero by a sign change over a segment where g is defined and
-            // continuous, or give up on it as a candidate.
-            const int sa = sign_at(a);
-            const int sb = sign_at(b);
-            const bool proven = sa == 0 || (gd.a.defined && sa != 2 && sb != 2 && sa != sb);
-            if (proven) {
-                if (!std::isnan(cand_lo)) return finish(Status::Hit, cand_lo, b);
-                return hit(contracted);
-            }
-            if (sb == 0) {
-                return finish(Status::Hit, std::isnan(cand_lo) ? a : cand_lo, b);
-            }
-            unresolved(contracted);
+        if (leaf) {
+            unresolved(contracted);  // neither excluded nor proven: a candidate
             continue;
         }
         const double m = midpoint(contracted);
         stack.push_back(Interval(m, b));  // right half examined after the left one
         stack.push_back(Interval(a, m));
     }
+    if (!std::isnan(proof_hi)) return answer(proof_lo, proof_hi);
     if (!std::isnan(cand_lo)) return finish(Status::Unknown, cand_lo, cand_hi);
     return finish(Status::Miss, 0, 0);
 }
