@@ -7,6 +7,19 @@
 
 namespace certray::expr {
 
+// One evaluator per thread, so that the per-region queries of tracers allocate nothing.
+Dual<double, 3> gradient(const Tape& tape, const std::array<double, 3>& p) {
+    using D = Dual<double, 3>;
+    thread_local Evaluator<D> e;
+    return e(tape, {D::variable(p[0], 0), D::variable(p[1], 1), D::variable(p[2], 2)});
+}
+
+Dual<Interval, 3> interval_gradient(const Tape& tape, const std::array<Interval, 3>& box) {
+    using D = Dual<Interval, 3>;
+    thread_local Evaluator<D> e;
+    return e(tape, {D::variable(box[0], 0), D::variable(box[1], 1), D::variable(box[2], 2)});
+}
+
 double norm_bound(const std::array<Interval, 3>& grad) {
     constexpr double kInf = std::numeric_limits<double>::infinity();
     Interval sum(0.0);

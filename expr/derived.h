@@ -35,16 +35,10 @@ struct Fast<Dual<Interval, N>> {
 };
 
 /// f(p) and ∇f(p) in double.
-inline Dual<double, 3> gradient(const Tape& tape, const std::array<double, 3>& p) {
-    using D = Dual<double, 3>;
-    return eval<D>(tape, {D::variable(p[0], 0), D::variable(p[1], 1), D::variable(p[2], 2)});
-}
+Dual<double, 3> gradient(const Tape& tape, const std::array<double, 3>& p);
 
 /// An enclosure of f and of its generalised gradients over the box.
-inline Dual<Interval, 3> interval_gradient(const Tape& tape, const std::array<Interval, 3>& box) {
-    using D = Dual<Interval, 3>;
-    return eval<D>(tape, {D::variable(box[0], 0), D::variable(box[1], 1), D::variable(box[2], 2)});
-}
+Dual<Interval, 3> interval_gradient(const Tape& tape, const std::array<Interval, 3>& box);
 
 /// Sound bound on ‖g‖₂ for every g in the interval vector `grad` (+inf if any part is unbounded,
 /// empty or undefined).

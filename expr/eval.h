@@ -128,19 +128,14 @@ class Evaluator {
     /// f(p) computed in T (for enclosures: an enclosure of f over the box p).
     T operator()(const Tape& tape, const std::array<T, 3>& p) {
         if (regs_.size() < tape.registers()) regs_.resize(tape.registers());
-        ++evaluations_;
         [[maybe_unused]] typename Fast<T>::Scope scope;
         const std::array<Inner, 3> q{Fast<T>::in(p[0]), Fast<T>::in(p[1]), Fast<T>::in(p[2])};
         detail::run<Inner>(tape.instrs(), q, regs_.data());
         return Fast<T>::out(regs_[tape.output()]);
     }
 
-    /// Number of whole-tape evaluations made so far.
-    std::uint64_t evaluations() const noexcept { return evaluations_; }
-
   private:
     std::vector<Inner> regs_;
-    std::uint64_t evaluations_ = 0;
 };
 
 /// One-shot evaluation (allocates its registers; use an Evaluator in loops).

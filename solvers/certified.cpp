@@ -172,11 +172,12 @@ RayResult Solver::hit(Interval t) {
 
 RayResult Solver::solve() {
     if (ray_.d[0] == 0 && ray_.d[1] == 0 && ray_.d[2] == 0) {
-        // g is the constant f(o): a zero everywhere, nowhere, or undecided.
-        const int s = sign_at(0.0);
-        if (s == 0) return finish(Status::Hit, ray_.tmin, ray_.tmin);
-        if (s == 1 || s == -1) return finish(Status::Miss, 0, 0);
+        // g is the constant f(o): a zero everywhere (an exact zero), nowhere (0 excluded, or f
+        // undefined at o), or undecided.
         const Interval v = g(Interval(0.0));
+        if (v.defined && v.lower() == 0 && v.upper() == 0) {
+            return finish(Status::Hit, ray_.tmin, ray_.tmin);
+        }
         if (!possibly_zero(v)) return finish(Status::Miss, 0, 0);
         return finish(Status::Unknown, ray_.tmin, ray_.tmax);
     }

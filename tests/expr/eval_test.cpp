@@ -84,6 +84,9 @@ TEST(Derived, LipschitzOfADistanceIsAboutOne) {
     EXPECT_LT(l, 1.3);
     // Through the origin the gradient of √ is unbounded: no finite bound may be claimed.
     EXPECT_EQ(lipschitz_bound(t, {Interval(-1, 1), Interval(-1, 1), Interval(-1, 1)}), kInf);
+    // A segment's bound is the bound over its bounding box.
+    EXPECT_EQ(lipschitz_bound_segment(t, {1.1, 1.0, 1.1}, {1.0, 1.1, 1.0}),
+              lipschitz_bound(t, {Interval(1, 1.1), Interval(1, 1.1), Interval(1, 1.1)}));
 }
 
 TEST(Prune, MinOfTwoSpheresKeepsTheNearOne) {
