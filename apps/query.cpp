@@ -24,32 +24,12 @@
 
 #include "expr/load.h"
 #include "expr/tape.h"
-#include "solvers/certified.h"
 #include "solvers/ray.h"
 #include "solvers/ray_io.h"
+#include "tracers/methods.h"
 
 namespace certray::apps {
 namespace {
-
-/// One ray in, one answer out; must be callable from several threads at once.
-using RayFunction = std::function<RayResult(const expr::Tape&, const Ray&)>;
-
-struct Method {
-    std::string_view name;
-    RayFunction (*make)(const QueryOptions&);
-};
-
-/// The method registry: a name to a per-ray function configured from the options.
-constexpr Method kMethods[] = {
-    {"certified",
-     [](const QueryOptions& o) -> RayFunction {
-         solvers::CertifiedOptions opt;
-         opt.budget = o.budget;
-         return [opt](const expr::Tape& tape, const Ray& ray) {
-             return solvers::certified_first_root(tape, ray, opt);
-         };
-     }},
-};
 
 /// A file written to `PATH.tmp` and renamed to PATH by commit(); removed if never committed.
 class AtomicOutput {
@@ -99,8 +79,8 @@ class AtomicOutput {
 
 /// Runs `fn` over all rays on `threads` workers, results in input order. Prints a progress line on
 /// stderr when it is a terminal and the run takes more than a second.
-std::vector<RayResult> solve_all(const expr::Tape& tape, const std::vector<Ray>& rays,
-                                 const RayFunction& fn, unsigned threads) {
+std::vector<RayResult> solve_all(const std::vector<Ray>& rays, const tracers::RayFunction& fn,
+                                 unsigned threads) {
     constexpr std::size_t kChunk = 64;
     const std::size_t n = rays.size();
     std::vector<RayResult> results(n);
@@ -117,7 +97,7 @@ std::vector<RayResult> solve_all(const expr::Tape& tape, const std::vector<Ray>&
                 const std::size_t begin = next.fetch_add(kChunk, std::memory_order_relaxed);
                 if (begin >= n) break;
                 const std::size_t end = std::min(n, begin + kChunk);
-                for (std::size_t i = begin; i < end; ++i) results[i] = fn(tape, rays[i]);
+                for (std::size_t i = begin; i < end; ++i) results[i] = fn(rays[i]);
                 done.fetch_add(end - begin, std::memory_order_relaxed);
             }
         } catch (...) {
@@ -196,27 +176,21 @@ nlohmann::json make_stats(const QueryOptions& options, const expr::Tape& tape,
 
 }  // namespace
 
-std::vector<std::string> query_methods() {
-    std::vector<std::string> names;
-    for (const Method& m : kMethods) names.emplace_back(m.name);
-    return names;
-}
+std::vector<std::string> query_methods() { return tracers::method_names(); }
 
 int run_query(const QueryOptions& options) {
-    const Method* method = nullptr;
-    for (const Method& m : kMethods) {
-        if (m.name == options.method) method = &m;
-    }
-    if (method == nullptr) {
+    const std::vector<std::string> names = query_methods();
+    if (std::find(names.begin(), names.end(), options.method) == names.end()) {
         std::string list;
-        for (const std::string& name : query_methods()) list += (list.empty() ? "" : ", ") + name;
+        for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
         std::cerr << "certray query: unknown method '" << options.method
                   << "'; available methods: " << list << "\n";
         return 2;
     }
-    const RayFunction fn = method->make(options);
-
     const expr::Tape tape(expr::load_graph_file(options.scene));
+    tracers::MethodOptions method_options = options.knobs;
+    method_options.budget = options.budget;
+    const tracers::RayFunction fn = tracers::make_method(options.method, tape, method_options);
     const std::vector<Ray> rays = read_rays_csv_file(options.rays);
 
     // Open the outputs before the long part, so an unwritable directory fails fast.
@@ -227,7 +201,7 @@ int run_query(const QueryOptions& options) {
     const unsigned threads =
         options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
     const auto start = std::chrono::steady_clock::now();
-    const std::vector<RayResult> results = solve_all(tape, rays, fn, threads);
+    const std::vector<RayResult> results = solve_all(rays, fn, threads);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

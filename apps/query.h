@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "tracers/methods.h"
+
 namespace certray::apps {
 
 struct QueryOptions {
@@ -20,6 +22,7 @@ struct QueryOptions {
     std::string stats;             ///< STATS.json to write; empty for none
     std::uint64_t budget = 20000;  ///< the most whole-tape evaluations per ray (certified)
     unsigned threads = 0;          ///< worker threads; 0 means std::thread::hardware_concurrency()
+    tracers::MethodOptions knobs;  ///< the methods' other knobs (budget is taken from `budget`)
 };
 
 /// The names accepted by QueryOptions::method.

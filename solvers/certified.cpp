@@ -7,12 +7,15 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "expr/derived.h"
 #include "expr/eval.h"
+#include "interval/affine.h"
 #include "interval/dual.h"
 #include "interval/interval.h"
+#include "interval/mpfr_interval.h"
 
 namespace certray::solvers {
 
@@ -20,10 +23,73 @@ namespace {
 
 using D1 = Dual<Interval, 1>;
 
-/// Scratch space of one thread: evaluators and the stack of intervals still to examine.
+/// g and g′ over parameter intervals, computed in the enclosure type E and rounded outward to
+/// double intervals (the identity for E = Interval). One per thread: it owns the evaluators.
+template <class E>
+struct Field {
+    using DE = Dual<E, 1>;
+    expr::Evaluator<E> value;
+    expr::Evaluator<DE> dual;
+    expr::Evaluator<Affine<1>> affine;
+
+    static E lift(const Interval& x) {
+        if constexpr (std::is_same_v<E, Interval>) {
+            return x;
+        } else {
+            if (x.is_empty()) return E::empty();
+            E r(x.lower(), x.upper());
+            r.defined = x.defined;
+            return r;
+        }
+    }
+    static Interval drop(const E& x) {
+        if constexpr (std::is_same_v<E, Interval>) {
+            return x;
+        } else {
+            if (x.is_empty()) return Interval::empty();
+            Interval r(x.lower(), x.upper());
+            r.defined = x.defined;
+            return r;
+        }
+    }
+
+    /// G(T) ⊇ {g(t) : t ∈ T}.
+    Interval g(const expr::Tape& tape, const Ray& ray, const Interval& t) {
+        std::array<E, 3> p;
+        const E tt = lift(t);
+        for (int i = 0; i < 3; ++i) p[i] = E(ray.o[i]) + tt * E(ray.d[i]);
+        return drop(value(tape, p));
+    }
+    /// G(T) ∩ the affine form of g in the one noise symbol of T (tighter along long segments,
+    /// where interval arithmetic loses the correlation between the coordinates), given v = G(T).
+    Interval refine_affine(const expr::Tape& tape, const Ray& ray, const Interval& t, Interval v) {
+        const Affine<1> s = Affine<1>::variable(t, 0);
+        std::array<Affine<1>, 3> q;
+        for (int i = 0; i < 3; ++i) q[i] = Affine<1>(ray.o[i]) + s * Affine<1>(ray.d[i]);
+        const Interval a = affine(tape, q).to_interval();
+        // Both enclose g over T, so their intersection does; g is defined and continuous on T if
+        // either proves it (a decoration states a fact about g, not about the method).
+        if (!a.is_empty() && !v.is_empty()) {
+            const bool defined = v.defined || a.defined;
+            v = intersect(v, a);
+            v.defined = defined && !v.is_empty();
+        }
+        return v;
+    }
+    /// G(T) and G′(T).
+    D1 g_dual(const expr::Tape& tape, const Ray& ray, const Interval& t) {
+        std::array<DE, 3> p;
+        const E tt = lift(t);
+        for (int i = 0; i < 3; ++i) p[i] = DE(E(ray.o[i]) + tt * E(ray.d[i]), {E(ray.d[i])});
+        const DE r = dual(tape, p);
+        return D1(drop(r.a), {drop(r.v[0])});
+    }
+};
+
+/// Scratch space of one thread: the field evaluators and the stack of intervals to examine.
+template <class E>
 struct Scratch {
-    expr::Evaluator<Interval> interval;
-    expr::Evaluator<D1> dual;
+    Field<E> field;
     std::vector<Interval> stack;
 };
 
@@ -41,9 +107,10 @@ bool narrow(double a, double b) {
     return !splittable(a, b) || (std::isfinite(b - a) && b - a <= lim - scale);
 }
 
+template <class E>
 class Solver {
   public:
-    Solver(const expr::Tape& tape, const Ray& ray, const CertifiedOptions& options, Scratch& s)
+    Solver(const expr::Tape& tape, const Ray& ray, const CertifiedOptions& options, Scratch<E>& s)
         : tape_(tape), ray_(ray), options_(options), s_(s) {}
 
     RayResult solve();
@@ -54,18 +121,22 @@ class Solver {
     /// G(T): g over the parameter interval T.
     Interval g(const Interval& t) {
         ++result_.evals.interval;
-        std::array<Interval, 3> p;
-        for (int i = 0; i < 3; ++i) p[i] = Interval(ray_.o[i]) + t * Interval(ray_.d[i]);
-        return s_.interval(tape_, p);
+        return s_.field.g(tape_, ray_, t);
+    }
+    /// G(T), refined by the affine form when the options ask for it and G(T) holds 0.
+    Interval g_excluding(const Interval& t) {
+        Interval v = g(t);
+        if (options_.affine && possibly_zero(v) && t.lower() < t.upper() &&
+            std::isfinite(t.lower()) && std::isfinite(t.upper())) {
+            ++result_.evals.interval;
+            v = s_.field.refine_affine(tape_, ray_, t, v);
+        }
+        return v;
     }
     /// G(T) and G'(T) at once.
     D1 g_dual(const Interval& t) {
         ++result_.evals.gradient;
-        std::array<D1, 3> p;
-        for (int i = 0; i < 3; ++i) {
-            p[i] = D1(Interval(ray_.o[i]) + t * Interval(ray_.d[i]), {Interval(ray_.d[i])});
-        }
-        return s_.dual(tape_, p);
+        return s_.field.g_dual(tape_, ray_, t);
     }
 
     /// Proven: g has a zero in T (everything left of T excluded) → narrow T and report.
@@ -80,11 +151,12 @@ class Solver {
     const expr::Tape& tape_;
     const Ray& ray_;
     const CertifiedOptions& options_;
-    Scratch& s_;
+    Scratch<E>& s_;
     RayResult result_;
 };
 
-int Solver::sign_at(double t) {
+template <class E>
+int Solver<E>::sign_at(double t) {
     if (!std::isfinite(t)) return 2;
     const Interval v = g(Interval(t));
     if (v.is_empty() || !v.defined) return 2;
@@ -94,7 +166,8 @@ int Solver::sign_at(double t) {
     return 2;
 }
 
-Interval Solver::newton(const Interval& t, const D1& gt, bool& unique) {
+template <class E>
+Interval Solver<E>::newton(const Interval& t, const D1& gt, bool& unique) {
     unique = false;
     const Interval& dg = gt.v[0];
     // The mean value form needs g defined and continuous on T and a bounded derivative enclosure
@@ -113,7 +186,8 @@ Interval Solver::newton(const Interval& t, const D1& gt, bool& unique) {
     return intersect(t, n);
 }
 
-RayResult Solver::finish(Status status, double lo, double hi) {
+template <class E>
+RayResult Solver<E>::finish(Status status, double lo, double hi) {
     result_.status = status;
     if (status != Status::Miss) {
         result_.t_lo = lo;
@@ -126,7 +200,8 @@ RayResult Solver::finish(Status status, double lo, double hi) {
 // T holds a zero and nothing left of T does. Narrow T: by Newton while it contracts (a unique zero
 // stays unique), else by bisection that keeps the first zero inside (exclude the left half, or
 // keep a sign change in it).
-RayResult Solver::hit(Interval t) {
+template <class E>
+RayResult Solver<E>::hit(Interval t) {
     // Newton's contraction keeps every zero of T (whether or not uniqueness was proven).
     for (int it = 0; it < 64 && !narrow(t.lower(), t.upper()) && !out_of_budget(); ++it) {
         bool unique = false;
@@ -148,7 +223,7 @@ RayResult Solver::hit(Interval t) {
         for (double p : splits) {
             if (!(t.lower() < p && p < t.upper())) continue;
             const Interval left(t.lower(), p);
-            const Interval gl = g(left);
+            const Interval gl = g_excluding(left);
             if (!possibly_zero(gl)) {  // no zero in [a, p]: the first zero is in [p, b]
                 t = Interval(p, t.upper());
                 sa = sign_at(p);
@@ -170,7 +245,8 @@ RayResult Solver::hit(Interval t) {
     return finish(Status::Hit, t.lower(), t.upper());
 }
 
-RayResult Solver::solve() {
+template <class E>
+RayResult Solver<E>::solve() {
     if (ray_.d[0] == 0 && ray_.d[1] == 0 && ray_.d[2] == 0) {
         // g is the constant f(o): a zero everywhere (an exact zero), nowhere (0 excluded, or f
         // undefined at o), or undecided.
@@ -220,7 +296,7 @@ RayResult Solver::solve() {
         Interval t = stack.back();
         stack.pop_back();
         if (!std::isnan(proof_hi) && t.upper() > proof_hi) t = Interval(t.lower(), proof_hi);
-        const Interval gt = g(t);
+        const Interval gt = g_excluding(t);
         if (!possibly_zero(gt)) continue;  // excluded (also when g is undefined on all of T)
 
         // g ≡ 0 on T: its left end is the first zero.
@@ -261,8 +337,14 @@ RayResult Solver::solve() {
 
 RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
                                const CertifiedOptions& options) {
-    thread_local Scratch scratch;
-    return Solver(tape, ray, options, scratch).solve();
+    thread_local Scratch<Interval> scratch;
+    return Solver<Interval>(tape, ray, options, scratch).solve();
+}
+
+RayResult certified_first_root_reference(const expr::Tape& tape, const Ray& ray,
+                                         const CertifiedOptions& options) {
+    thread_local Scratch<MpfrInterval> scratch;
+    return Solver<MpfrInterval>(tape, ray, options, scratch).solve();
 }
 
 }  // namespace certray::solvers

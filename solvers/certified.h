@@ -19,11 +19,21 @@ namespace certray::solvers {
 struct CertifiedOptions {
     /// The most whole-tape evaluations (of any kind) spent on one ray; then the answer is Unknown.
     std::uint64_t budget = 20000;
+    /// Also enclose g over each parameter interval T by the affine form of g in T's one noise
+    /// symbol, and use the intersection with the interval enclosure (two evaluations, counted).
+    bool affine = false;
 };
 
 /// The first root of g(t) = f(o + t·d) on [ray.tmin, ray.tmax], certified (see the contract).
 /// Thread-safe: each thread uses its own scratch space, allocated once.
 RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
                                const CertifiedOptions& options = {});
+
+/// The same search with every evaluation of g and g′ in MpfrInterval at 256 bits, rounded outward
+/// to doubles: signs are decided where double intervals cannot, so a simple root's enclosure is
+/// at most a few ulps wide, usually adjacent doubles. The reference (ground truth) of the tests
+/// and benchmarks; about two orders of magnitude slower.
+RayResult certified_first_root_reference(const expr::Tape& tape, const Ray& ray,
+                                         const CertifiedOptions& options = {});
 
 }  // namespace certray::solvers

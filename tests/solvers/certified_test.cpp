@@ -148,6 +148,54 @@ TEST(Certified, BudgetEndsWithUnknown) {
     EXPECT_LE(r.evals.total(), 200u + 4);
 }
 
+TEST(CertifiedReference, MpfrEnclosuresAreAdjacentDoubles) {
+    const Tape s = tape_of("sqrt(x^2 + y^2 + z^2) - 1");
+    const RayResult r = certified_first_root_reference(s, Ray{{0, 0, -3}, {0, 0, 1}, 0, kInf});
+    expect_hit_at(r, 2.0, 1);
+    // x² − 2 along +x from 0: the root √2 is irrational, so the enclosure is the two doubles
+    // around it: t_lo² < 2 < t_hi², checked exactly in MPFR, and t_hi is the successor of t_lo.
+    const RayResult q =
+        certified_first_root_reference(tape_of("x^2 - 2"), Ray{{0, 0, 0}, {1, 0, 0}, 0, 4});
+    ASSERT_EQ(q.status, Status::Hit);
+    EXPECT_EQ(std::nextafter(q.t_lo, kInf), q.t_hi);
+    mpfr_t a;
+    mpfr_init2(a, 200);
+    mpfr_set_d(a, q.t_lo, MPFR_RNDN);
+    mpfr_sqr(a, a, MPFR_RNDN);
+    EXPECT_LT(mpfr_cmp_ui(a, 2), 0);
+    mpfr_set_d(a, q.t_hi, MPFR_RNDN);
+    mpfr_sqr(a, a, MPFR_RNDN);
+    EXPECT_GT(mpfr_cmp_ui(a, 2), 0);
+    mpfr_clear(a);
+    // The double solver cannot decide signs that close to √2 (x² rounds), the reference can.
+    const RayResult d = certified_first_root(tape_of("x^2 - 2"), Ray{{0, 0, 0}, {1, 0, 0}, 0, 4});
+    ASSERT_EQ(d.status, Status::Hit);
+    EXPECT_LE(d.t_lo, q.t_lo);
+    EXPECT_GE(d.t_hi, q.t_hi);
+}
+
+TEST(CertifiedReference, UndefinedAndTangentCasesStayHonest) {
+    expect_hit_at(certified_first_root_reference(tape_of("sqrt(x) - 0.5"),
+                                                 Ray{{-1, 0, 0}, {1, 0, 0}, 0, kInf}),
+                  1.25, 1);
+    const RayResult m = certified_first_root_reference(
+        tape_of("x^2 + y^2 + z^2 - 1"), Ray{{-3, 1 + std::ldexp(1.0, -40), 0}, {1, 0, 0}, 0, 6});
+    EXPECT_NE(m.status, Status::Hit);
+}
+
+TEST(CertifiedAffine, SameRootsFewerOrEqualSteps) {
+    // Along a long segment the affine form keeps the correlation between x, y and z.
+    const Tape t = tape_of("q = sqrt(x^2 + y^2) - 1\nsqrt(q^2 + z^2) - 0.25");
+    CertifiedOptions aff;
+    aff.affine = true;
+    const Ray ray{{-3, 0.5, 0.1}, {1, 0.01, 0.02}, 0, 10};
+    const RayResult a = certified_first_root(t, ray, aff);
+    const RayResult b = certified_first_root(t, ray);
+    ASSERT_EQ(a.status, Status::Hit);
+    ASSERT_EQ(b.status, Status::Hit);
+    EXPECT_LE(std::max(a.t_lo, b.t_lo), std::min(a.t_hi, b.t_hi));  // both hold the root
+}
+
 // ---- properties ------------------------------------------------------------------------------
 
 // g(t) = Π (t − rᵢ) with dyadic roots rᵢ = kᵢ / 64 along the x axis: the first root is known.
@@ -165,7 +213,9 @@ RC_GTEST_PROP(CertifiedProperty, PolynomialWithKnownRoots, ()) {
     const double tmin = *rc::gen::inRange(-300, 300) / 64.0;
     const double tmax = tmin + *rc::gen::inRange(0, 400) / 64.0;
     const Tape t(expr::parse_expr(text));
-    const RayResult res = certified_first_root(t, Ray{{0, 0, 0}, {1, 0, 0}, tmin, tmax});
+    CertifiedOptions opt;
+    opt.affine = *rc::gen::arbitrary<bool>();
+    const RayResult res = certified_first_root(t, Ray{{0, 0, 0}, {1, 0, 0}, tmin, tmax}, opt);
     double first = kInf;
     for (double r : roots) {
         if (r >= tmin && r <= tmax) first = std::min(first, r);
@@ -188,7 +238,10 @@ RC_GTEST_PROP(CertifiedProperty, NoProvenZeroBeforeTheAnswer, ()) {
     }
     ray.tmin = 0;
     ray.tmax = *rc::gen::inRange(1, 50) / 10.0;
-    const RayResult res = certified_first_root(t, ray, {4000});
+    CertifiedOptions opt;
+    opt.budget = 4000;
+    opt.affine = *rc::gen::arbitrary<bool>();
+    const RayResult res = certified_first_root(t, ray, opt);
     const double end = res.status == Status::Miss ? ray.tmax : res.t_lo;
     // Sample [tmin, end]; between samples where MPFR proves g defined and continuous on the
     // segment and of opposite signs at its ends, a zero exists: the answer would be wrong.
@@ -216,6 +269,29 @@ RC_GTEST_PROP(CertifiedProperty, NoProvenZeroBeforeTheAnswer, ()) {
         prev = cur;
         prev_t = tk;
     }
+}
+
+// The double solver and the MPFR reference agree: two hits overlap (both hold the first root), and
+// neither proves a miss where the other proves a hit.
+RC_GTEST_PROP(CertifiedProperty, AgreesWithTheMpfrReference, ()) {
+    const expr::Graph g = *testing::gen_dag(8);
+    const Tape t(g);
+    Ray ray;
+    for (int i = 0; i < 3; ++i) {
+        ray.o[i] = *rc::gen::inRange(-300, 300) / 100.0;
+        ray.d[i] = *rc::gen::inRange(-100, 100) / 50.0;
+    }
+    ray.tmin = 0;
+    ray.tmax = *rc::gen::inRange(1, 50) / 10.0;
+    CertifiedOptions opt;
+    opt.budget = 400;
+    const RayResult d = certified_first_root(t, ray, opt);
+    const RayResult m = certified_first_root_reference(t, ray, opt);
+    if (d.status == Status::Hit && m.status == Status::Hit) {
+        RC_ASSERT(std::max(d.t_lo, m.t_lo) <= std::min(d.t_hi, m.t_hi));
+    }
+    RC_ASSERT(!(d.status == Status::Hit && m.status == Status::Miss));
+    RC_ASSERT(!(d.status == Status::Miss && m.status == Status::Hit));
 }
 
 }  // namespace
