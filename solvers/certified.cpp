@@ -21,6 +21,8 @@ namespace certray::solvers {
 
 namespace {
 
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
 using D1 = Dual<Interval, 1>;
 
 /// g and g′ over parameter intervals, computed in the enclosure type E and rounded outward to
@@ -202,6 +204,34 @@ RayResult Solver<E>::finish(Status status, double lo, double hi) {
 // keep a sign change in it).
 template <class E>
 RayResult Solver<E>::hit(Interval t) {
+    // A point lp ≤ a = lower(T) with [lp, a) free of zeros and, when sl ≠ 2, the certain sign sl
+    // of g at lp: a sign change between lp and a point p of T proves a zero in [a, p]. Keeping
+    // lp when a moves right matters where g's sign at the new a is undecided (a contraction
+    // stopping an ulp short of a simple root, say).
+    double lp = t.lower();
+    int sl = sign_at(lp);
+    if (sl == 0) return finish(Status::Hit, lp, lp);
+    // Undecided at a (a root within rounding of a): [tmin, a) is free of zeros, so a point a few
+    // ulps left of a, where the sign is decided, serves as lp.
+    for (int k = 0; sl == 2 && k < 8 && !out_of_budget(); ++k) {
+        const double q =
+            t.lower() -
+            std::ldexp(std::nextafter(std::fabs(t.lower()), kInf) - std::fabs(t.lower()), 2 * k);
+        if (!(q >= ray_.tmin) || !std::isfinite(q)) break;
+        const int sq = sign_at(q);
+        if (sq == 1 || sq == -1) {
+            lp = q;
+            sl = sq;
+        }
+    }
+    auto moved_to = [&](double a) {  // [lp, a) has been proven free of zeros
+        const int sa = sign_at(a);
+        if (sa != 2 || sl == 2) {
+            lp = a;
+            sl = sa;
+        }
+        return sa;
+    };
     // Newton's contraction keeps every zero of T (whether or not uniqueness was proven).
     for (int it = 0; it < 64 && !narrow(t.lower(), t.upper()) && !out_of_budget(); ++it) {
         bool unique = false;
@@ -211,8 +241,9 @@ RayResult Solver<E>::hit(Interval t) {
         if (next.lower() == t.lower() && next.upper() == t.upper()) break;
         t = next;
     }
-    int sa = sign_at(t.lower());
-    if (sa == 0) return finish(Status::Hit, t.lower(), t.lower());
+    if (t.lower() != lp && moved_to(t.lower()) == 0) {
+        return finish(Status::Hit, t.lower(), t.lower());
+    }
     while (!narrow(t.lower(), t.upper()) && !out_of_budget() && std::isfinite(t.upper())) {
         // Split at the midpoint; where g's sign there is undecided (the split hit the root
         // itself, say), at the quarter points instead.
@@ -226,15 +257,17 @@ RayResult Solver<E>::hit(Interval t) {
             const Interval gl = g_excluding(left);
             if (!possibly_zero(gl)) {  // no zero in [a, p]: the first zero is in [p, b]
                 t = Interval(p, t.upper());
-                sa = sign_at(p);
-                if (sa == 0) return finish(Status::Hit, p, p);
+                if (moved_to(p) == 0) return finish(Status::Hit, p, p);
                 progress = true;
                 break;
             }
             const int sp = sign_at(p);
-            // A zero at p, or a sign change on [a, p]: the first zero is in [a, p] (not
-            // necessarily at p: [a, p) is not excluded).
-            if (sp == 0 || (gl.defined && sa != 2 && sp != 2 && sa != sp)) {
+            // A zero at p, or a sign change on [lp, p] where g is defined and continuous: the
+            // first zero is in [a, p] (not necessarily at p: [a, p) is not excluded).
+            bool change = sl != 2 && sp != 2 && sl != sp;
+            if (change && lp < t.lower()) change = g(Interval(lp, p)).defined;
+            if (change && lp == t.lower()) change = gl.defined;
+            if (sp == 0 || change) {
                 t = left;
                 progress = true;
                 break;

@@ -148,6 +148,29 @@ TEST(Certified, BudgetEndsWithUnknown) {
     EXPECT_LE(r.evals.total(), 200u + 4);
 }
 
+TEST(Certified, NarrowsARootWithinRoundingOfTheLastExcludedPoint) {
+    // scenes/csg.expr: the ray meets the capsule's cap |z| = 1.6 where g's sign cannot be decided
+    // in double at the first unexcluded point; the proof came from the later exit. The root is
+    // t* = (5 − c)/5 with c the double nearest 1.6; the enclosure must be a few ulps, not [t*,
+    // exit].
+    const Tape t = tape_of(
+        "box = max(max(abs(x) - 0.8, abs(y) - 0.8), abs(z) - 0.8)\n"
+        "ball = sqrt(x^2 + y^2 + z^2) - 1.05\n"
+        "stick = sqrt(x^2 + y^2) - 0.25\n"
+        "min(max(box, -ball), max(stick, abs(z) - 1.6))");
+    const RayResult r = trace(t, {0.3, -0.2, -5.0}, {-0.425, 0.07500000000000001, 5.0}, 0, 3);
+    ASSERT_EQ(r.status, Status::Hit);
+    mpfr_t root;
+    mpfr_init2(root, 200);
+    mpfr_set_d(root, 5.0, MPFR_RNDN);
+    mpfr_sub_d(root, root, 1.6, MPFR_RNDN);
+    mpfr_div_ui(root, root, 5, MPFR_RNDN);
+    EXPECT_GE(mpfr_cmp_d(root, r.t_lo), 0);
+    EXPECT_LE(mpfr_cmp_d(root, r.t_hi), 0);
+    mpfr_clear(root);
+    EXPECT_LE(ulps(r.t_lo, r.t_hi), 8) << r.t_lo << " " << r.t_hi;
+}
+
 TEST(CertifiedReference, MpfrEnclosuresAreAdjacentDoubles) {
     const Tape s = tape_of("sqrt(x^2 + y^2 + z^2) - 1");
     const RayResult r = certified_first_root_reference(s, Ray{{0, 0, -3}, {0, 0, 1}, 0, kInf});
