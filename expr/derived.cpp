@@ -22,14 +22,31 @@ Dual<Interval, 3> interval_gradient(const Tape& tape, const std::array<Interval,
 
 double norm_bound(const std::array<Interval, 3>& grad) {
     constexpr double kInf = std::numeric_limits<double>::infinity();
-    Interval sum(0.0);
-    for (const Interval& g : grad) {
+    std::array<double, 3> mag{};
+    double m = 0;
+    for (int i = 0; i < 3; ++i) {
+        const Interval& g = grad[i];
         if (g.is_empty() || !g.defined) return kInf;
-        const double mag = std::max(std::fabs(g.lower()), std::fabs(g.upper()));
-        if (!std::isfinite(mag)) return kInf;
-        sum = sum + square(Interval(mag));
+        mag[i] = std::max(std::fabs(g.lower()), std::fabs(g.upper()));
+        if (!std::isfinite(mag[i])) return kInf;
+        m = std::max(m, mag[i]);
     }
-    return sqrt(sum).upper();
+    if (m == 0) return 0;
+    // ‖g‖ = 2^e ‖g / 2^e‖ with 2^e near the largest component, so that the squares neither
+    // underflow (a gradient of 1e-300 would otherwise give a bound of 1e-162) nor overflow.
+    const int e = std::ilogb(m);
+    Interval sum(0.0);
+    for (double g : mag) {
+        Interval x(g);
+        // 2^-e in at most two exact factors (2^1074 alone would overflow).
+        for (int k = -e; k != 0;) {
+            const int step = std::clamp(k, -1000, 1000);
+            x = x * Interval(std::ldexp(1.0, step));
+            k -= step;
+        }
+        sum = sum + square(x);
+    }
+    return (sqrt(sum) * Interval(std::ldexp(1.0, e))).upper();
 }
 
 double lipschitz_bound(const Tape& tape, const std::array<Interval, 3>& box) {

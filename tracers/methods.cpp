@@ -1,12 +1,20 @@
 // tracers/methods.cpp — the registry of methods (see methods.h).
 #include "tracers/methods.h"
 
+#include <memory>
 #include <stdexcept>
 
 #include "solvers/certified.h"
+#include "tracers/octree.h"
 
 namespace certray::tracers {
 namespace {
+
+/// The bounds the octree methods subdivide: the given ones, else [−2, 2]³ (the gallery's frame).
+std::array<Interval, 3> octree_bounds(const MethodOptions& o) {
+    if (o.bounds) return *o.bounds;
+    return {Interval(-2, 2), Interval(-2, 2), Interval(-2, 2)};
+}
 
 struct Entry {
     std::string_view name;
@@ -32,6 +40,26 @@ const Entry kMethods[] = {
          opt.affine = true;
          return
              [&tape, opt](const Ray& ray) { return solvers::certified_first_root(tape, ray, opt); };
+     }},
+    {"certified-octree",
+     "certified, accelerated by an octree over the bounds (default [-2,2]^3, depth 5): empty and "
+     "full cells skipped, each ambiguous cell solved with its pruned tape; the ray outside the "
+     "bounds with the full tape; certified; knobs: --budget, --bounds",
+     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+         auto tree = std::make_shared<const Octree>(tape, octree_bounds(o));
+         solvers::CertifiedOptions opt;
+         opt.budget = o.budget;
+         return [tree, opt](const Ray& ray) { return tree->certified(ray, opt); };
+     }},
+    {"octree",
+     "sphere tracing with the local Lipschitz bound of each octree cell (Hart 1996) inside the "
+     "bounds (default [-2,2]^3, depth 5; the scene is taken as empty outside them); approximate, "
+     "never steps past a root inside the bounds; knobs: --epsilon, --budget, --bounds",
+     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+         auto tree = std::make_shared<const Octree>(tape, octree_bounds(o));
+         const double eps = o.epsilon;
+         const std::uint64_t budget = o.budget;
+         return [tree, eps, budget](const Ray& ray) { return tree->sphere(ray, eps, budget); };
      }},
     {"reference",
      "certified, every evaluation in 256-bit MPFR intervals: enclosures of adjacent doubles, the "

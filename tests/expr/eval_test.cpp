@@ -89,6 +89,22 @@ TEST(Derived, LipschitzOfADistanceIsAboutOne) {
               lipschitz_bound(t, {Interval(1, 1.1), Interval(1, 1.1), Interval(1, 1.1)}));
 }
 
+TEST(Derived, NormBoundIsTightAtExtremeMagnitudes) {
+    // ‖(3, 4, 0)·2^k‖ = 5·2^k: the bound holds and is within a few ulps at every scale, where
+    // plain squares would underflow (k = −600, −1060) or overflow (k = 600).
+    for (int k : {-1060, -600, -300, 0, 300, 600}) {
+        const double s = std::ldexp(1.0, k);
+        const double n = norm_bound({Interval(3 * s), Interval(-4 * s, 2 * s), Interval(0)});
+        EXPECT_GE(n, 5 * s) << k;
+        EXPECT_LE(n, 5 * s * (1 + 1e-14)) << k;
+    }
+    EXPECT_EQ(norm_bound({Interval(0), Interval(0), Interval(0)}), 0.0);
+    // √2·1e308 is still a double; √2·1.5e308 is not: the bound is +inf there.
+    EXPECT_LE(norm_bound({Interval(1e308), Interval(1e308), Interval(0)}), 1.4142136e308);
+    EXPECT_EQ(norm_bound({Interval(1.5e308), Interval(1.5e308), Interval(0)}),
+              std::numeric_limits<double>::infinity());
+}
+
 TEST(Prune, MinOfTwoSpheresKeepsTheNearOne) {
     // f = min(|p − (−2,0,0)| − 1, |p − (2,0,0)| − 1): on x < 0 only the first sphere matters.
     Graph g;

@@ -1,0 +1,288 @@
+// tracers/octree.cpp — octree build (interval classification, pruned tapes, local λ), ray walk
+// in entry order, and the certified and sphere-tracing methods on it (see octree.h).
+#include "tracers/octree.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "expr/derived.h"
+#include "expr/eval.h"
+#include "expr/prune.h"
+
+namespace certray::tracers {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// The box widened by 2⁻²⁰ of its size on every side (rounded outward): the region a cell's
+/// pruned tape and λ are valid on, so that points a few ulps outside the cell stay covered.
+std::array<Interval, 3> inflate(const std::array<Interval, 3>& box) {
+    std::array<Interval, 3> r;
+    for (int i = 0; i < 3; ++i) {
+        const Interval pad = Interval(width(box[i])) * Interval(std::ldexp(1.0, -20));
+        r[i] = Interval(box[i].lower()) - pad;
+        r[i] = Interval(r[i].lower(), (Interval(box[i].upper()) + pad).upper());
+    }
+    return r;
+}
+
+/// True when every point o + t·d, t in [t0, t1], provably lies in `box`.
+bool segment_inside(const Ray& ray, double t0, double t1, const std::array<Interval, 3>& box) {
+    if (!(std::isfinite(t0) && std::isfinite(t1))) return false;
+    const Interval t(t0, t1);
+    for (int i = 0; i < 3; ++i) {
+        const Interval p = Interval(ray.o[i]) + t * Interval(ray.d[i]);
+        if (!(p.lower() >= box[i].lower() && p.upper() <= box[i].upper())) return false;
+    }
+    return true;
+}
+
+/// Scratch of one thread.
+struct Scratch {
+    std::vector<std::uint32_t> stack;
+    std::vector<std::pair<double, std::uint32_t>> children;
+    expr::Evaluator<double> value;
+};
+thread_local Scratch t_scratch;
+
+}  // namespace
+
+Interval ray_box(const Ray& ray, const std::array<Interval, 3>& box) {
+    double te = -kInf, tx = kInf;
+    for (int i = 0; i < 3; ++i) {
+        const double o = ray.o[i], d = ray.d[i];
+        if (d == 0) {
+            if (!(o >= box[i].lower() && o <= box[i].upper())) return Interval::empty();
+            continue;
+        }
+        const Interval ta = (Interval(box[i].lower()) - Interval(o)) / Interval(d);
+        const Interval tb = (Interval(box[i].upper()) - Interval(o)) / Interval(d);
+        te = std::max(te, std::min(ta.lower(), tb.lower()));
+        tx = std::min(tx, std::max(ta.upper(), tb.upper()));
+    }
+    if (!(te <= tx)) return Interval::empty();
+    return Interval(te, tx);
+}
+
+Octree::Octree(const expr::Tape& tape, const std::array<Interval, 3>& bounds,
+               const OctreeOptions& options)
+    : tape_(tape), bounds_(bounds), options_(options) {
+    const auto start = std::chrono::steady_clock::now();
+    build();
+    stats_.build_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void Octree::build() {
+    tapes_.push_back(std::make_shared<const expr::Tape>(tape_));
+    stats_.full_tape_instructions = tape_.size();
+    struct Work {
+        std::uint32_t node;
+        int depth;
+        std::uint32_t tape;
+    };
+    std::vector<Work> work{{0, 0, 0}};
+    nodes_.push_back(Node{bounds_, State::Ambiguous, 0, 0, 0});
+    while (!work.empty()) {
+        const Work w = work.back();
+        work.pop_back();
+        const std::array<Interval, 3> box = nodes_[w.node].box;
+        const std::array<Interval, 3> wide = inflate(box);
+        const expr::PruneResult pr = expr::prune(*tapes_[w.tape], wide);
+        std::uint32_t tape = w.tape;
+        if (pr.after < pr.before) {
+            tape = static_cast<std::uint32_t>(tapes_.size());
+            tapes_.push_back(std::make_shared<const expr::Tape>(pr.tape));
+        }
+        Node& n = nodes_[w.node];
+        if (!possibly_zero(pr.value)) {  // no zero in the cell (also: undefined on all of it)
+            n.state = !pr.value.is_empty() && pr.value.upper() < 0 ? State::Full : State::Empty;
+            continue;
+        }
+        if (w.depth >= options_.max_depth || nodes_.size() + 8 > options_.max_nodes) {
+            n.state = State::Ambiguous;
+            n.tape = tape;
+            n.lambda = expr::lipschitz_bound(*tapes_[tape], wide);
+            continue;
+        }
+        n.state = State::Branch;
+        n.first_child = static_cast<std::uint32_t>(nodes_.size());
+        const std::array<double, 3> mid{midpoint(box[0]), midpoint(box[1]), midpoint(box[2])};
+        for (int c = 0; c < 8; ++c) {
+            std::array<Interval, 3> cb;
+            for (int i = 0; i < 3; ++i) {
+                cb[i] = (c >> i) & 1 ? Interval(mid[i], box[i].upper())
+                                     : Interval(box[i].lower(), mid[i]);
+            }
+            work.push_back({static_cast<std::uint32_t>(nodes_.size()), w.depth + 1, tape});
+            nodes_.push_back(Node{cb, State::Ambiguous, 0, 0, 0});
+        }
+    }
+    // Only the tapes some leaf uses are kept (branch nodes' tapes served the build).
+    std::vector<std::int64_t> remap(tapes_.size(), -1);
+    std::vector<std::shared_ptr<const expr::Tape>> kept;
+    for (Node& n : nodes_) {
+        if (n.state == State::Empty || n.state == State::Full) {
+            ++(n.state == State::Empty ? stats_.empty : stats_.full);
+        }
+        if (n.state != State::Ambiguous) continue;
+        ++stats_.ambiguous;
+        if (remap[n.tape] < 0) {
+            remap[n.tape] = static_cast<std::int64_t>(kept.size());
+            kept.push_back(tapes_[n.tape]);
+        }
+        n.tape = static_cast<std::uint32_t>(remap[n.tape]);
+    }
+    tapes_ = std::move(kept);
+    stats_.nodes = nodes_.size();
+    stats_.distinct_tapes = tapes_.size();
+    for (const auto& t : tapes_) stats_.tape_instructions += t->size();
+    stats_.bytes = nodes_.size() * sizeof(Node) +
+                   stats_.tape_instructions * 2 * sizeof(expr::Instr);  // SSA + register form
+}
+
+void Octree::walk(const Ray& ray, double t0, double t1, std::vector<Segment>& out) const {
+    out.clear();
+    if (!(t0 <= t1)) return;
+    Scratch& s = t_scratch;
+    s.stack.clear();
+    s.stack.push_back(0);
+    while (!s.stack.empty()) {
+        const std::uint32_t i = s.stack.back();
+        s.stack.pop_back();
+        const Node& n = nodes_[i];
+        if (n.state == State::Empty || n.state == State::Full) continue;
+        const Interval seg = ray_box(ray, n.box);
+        if (seg.is_empty()) continue;
+        const double a = std::max(seg.lower(), t0), b = std::min(seg.upper(), t1);
+        if (!(a <= b)) continue;
+        if (n.state == State::Ambiguous) {
+            out.push_back({i, a, b});
+            continue;
+        }
+        // Children in order of entry: pushed last-first so the first is examined next.
+        s.children.clear();
+        for (std::uint32_t c = 0; c < 8; ++c) {
+            const Node& k = nodes_[n.first_child + c];
+            if (k.state == State::Empty || k.state == State::Full) continue;
+            const Interval ks = ray_box(ray, k.box);
+            if (ks.is_empty() || ks.upper() < t0 || ks.lower() > t1) continue;
+            s.children.push_back({ks.lower(), n.first_child + c});
+        }
+        std::sort(s.children.begin(), s.children.end());
+        for (auto it = s.children.rbegin(); it != s.children.rend(); ++it) {
+            s.stack.push_back(it->second);
+        }
+    }
+}
+
+RayResult Octree::certified(const Ray& ray, const solvers::CertifiedOptions& options) const {
+    thread_local std::vector<Segment> segments;
+    RayResult result;
+    result.status = Status::Miss;
+    bool found = false;
+    double best_lo = kInf;
+    // One piece of [tmin, tmax] with the tape valid on it; returns false when the budget is out.
+    auto piece = [&](const expr::Tape& tape, double a, double b) {
+        if (found && !(a < best_lo)) return true;
+        const double hi = found ? std::min(b, best_lo) : b;
+        if (result.evals.total() >= options.budget) {
+            result.status = Status::Unknown;
+            result.t_lo = a;
+            result.t_hi = ray.tmax;
+            result.t = a;
+            return false;
+        }
+        solvers::CertifiedOptions o = options;
+        o.budget = options.budget - result.evals.total();
+        const RayResult r = solvers::certified_first_root(tape, Ray{ray.o, ray.d, a, hi}, o);
+        result.evals += r.evals;
+        if (r.status == Status::Miss) return true;
+        if (!found || r.t_lo < best_lo) {
+            found = true;
+            best_lo = r.t_lo;
+            result.status = r.status;
+            result.t_lo = r.t_lo;
+            result.t_hi = r.t_hi;
+            result.t = r.t;
+        }
+        return r.status == Status::Hit || result.evals.total() < options.budget;
+    };
+    auto finish = [&]() {
+        if (result.status == Status::Miss) {
+            result.t_lo = result.t_hi = result.t = std::numeric_limits<double>::quiet_NaN();
+        }
+        return result;
+    };
+    const Interval in = ray_box(ray, bounds_);
+    if (in.is_empty() || in.upper() < ray.tmin || in.lower() > ray.tmax) {
+        piece(tape_, ray.tmin, ray.tmax);
+        return finish();
+    }
+    if (ray.tmin < in.lower() && !piece(tape_, ray.tmin, in.lower())) return finish();
+    walk(ray, std::max(ray.tmin, in.lower()), std::min(ray.tmax, in.upper()), segments);
+    for (const Segment& s : segments) {
+        const Node& n = nodes_[s.node];
+        const bool inside = segment_inside(ray, s.t0, s.t1, inflate(n.box));
+        if (!piece(inside ? *tapes_[n.tape] : tape_, s.t0, s.t1)) return finish();
+    }
+    if (in.upper() < ray.tmax) piece(tape_, in.upper(), ray.tmax);
+    return finish();
+}
+
+RayResult Octree::sphere(const Ray& ray, double epsilon, std::uint64_t budget) const {
+    thread_local std::vector<Segment> segments;
+    Scratch& s = t_scratch;
+    RayResult r;
+    auto stop = [&](Status st, double lo, double hi) {
+        r.status = st;
+        if (st != Status::Miss) {
+            r.t_lo = lo;
+            r.t_hi = hi;
+            r.t = lo;
+        }
+        return r;
+    };
+    const Interval in = ray_box(ray, bounds_);
+    if (in.is_empty()) return stop(Status::Miss, 0, 0);
+    // |d| rounded up: a distance δ along the ray is a parameter step of at least δ / |d|.
+    const double dn =
+        sqrt(square(Interval(ray.d[0])) + square(Interval(ray.d[1])) + square(Interval(ray.d[2])))
+            .upper();
+    if (dn == 0) {  // a degenerate ray: g is the constant f(o)
+        ++r.evals.value;
+        const double v = s.value(tape_, ray.o);
+        if (v == 0) return stop(Status::Hit, ray.tmin, ray.tmin);
+        return std::isnan(v) ? stop(Status::Unknown, ray.tmin, ray.tmax) : stop(Status::Miss, 0, 0);
+    }
+    walk(ray, std::max(ray.tmin, in.lower()), std::min(ray.tmax, in.upper()), segments);
+    for (const Segment& seg : segments) {
+        const Node& n = nodes_[seg.node];
+        if (!segment_inside(ray, seg.t0, seg.t1, inflate(n.box)) || !(n.lambda < kInf)) {
+            return stop(Status::Unknown, seg.t0, seg.t1);
+        }
+        const expr::Tape& tape = *tapes_[n.tape];
+        double t = seg.t0;
+        while (t <= seg.t1) {
+            if (r.evals.total() >= budget) return stop(Status::Unknown, t, ray.tmax);
+            ++r.evals.value;
+            const double v = s.value(
+                tape, {ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1], ray.o[2] + t * ray.d[2]});
+            if (std::isnan(v)) return stop(Status::Unknown, t, seg.t1);
+            if (std::fabs(v) <= epsilon * n.lambda) return stop(Status::Hit, t, t);
+            if (n.lambda == 0) break;  // f constant and nonzero on the cell
+            // A parameter step no longer than |f| / (λ |d|), the distance bound along the ray
+            // (rounded down: 1 − 2⁻⁴⁰ covers the rounding of the product and the quotient).
+            const double step = std::fabs(v) / (n.lambda * dn) * (1 - std::ldexp(1.0, -40));
+            double next = t + step;
+            if (next - t > step) next = std::nextafter(next, -kInf);
+            if (!(next > t)) return stop(Status::Hit, t, t);  // nearer than one ulp of t
+            t = next;
+        }
+    }
+    return stop(Status::Miss, 0, 0);
+}
+
+}  // namespace certray::tracers

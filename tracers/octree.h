@@ -1,0 +1,97 @@
+// tracers/octree.h — an octree over the scene bounds with per-cell pruned tapes and local
+// Lipschitz constants (Hart 1996, §"Octree"; libfive's EMPTY / FILLED / AMBIGUOUS cells), built
+// once per scene and shared by every ray.
+//
+// Contract: every leaf is classified by an interval evaluation over its box: `Empty` (f > 0 on the
+// whole cell) and `Full` (f < 0) hold no zero of f; an `Ambiguous` leaf keeps a tape pruned to a
+// slightly inflated copy of its box (expr::prune: equal to f at every point of that box) and λ, a
+// sound bound on ‖∇f‖₂ over it (expr::lipschitz_bound; +inf where f is not proven defined and
+// continuous). Rays walk the leaves in order of entry along the ray with conservative (outward
+// rounded) slab intersections, so consecutive segments overlap by a few ulps and cover the ray's
+// part inside the bounds without gaps. Two methods use it:
+//   - certified(): the certified solver (solvers/certified.h) on each ambiguous leaf's segment
+//     with its pruned tape, and on the parts of [tmin, tmax] outside the bounds with the full
+//     tape — the certification semantics of solvers/ray.h hold for the whole ray;
+//   - sphere(): sphere tracing with each leaf's local λ inside the bounds (outside them the
+//     scene is taken as empty: an approximate method that never steps past a root inside the
+//     bounds when the λ are sound).
+// Memory is bounded by `max_nodes`; a pruned tape equal to its parent's is shared, not copied.
+// Reference: docs/theory/octree.md.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "expr/tape.h"
+#include "interval/interval.h"
+#include "solvers/certified.h"
+#include "solvers/ray.h"
+
+namespace certray::tracers {
+
+struct OctreeOptions {
+    /// Subdivision depth of the deepest leaves (the root cell is depth 0).
+    int max_depth = 5;
+    /// The most nodes the tree may hold; subdivision stops when the next split would exceed it.
+    std::size_t max_nodes = std::size_t{1} << 20;
+};
+
+/// Counts of what the tree holds.
+struct OctreeStats {
+    std::size_t nodes = 0, empty = 0, full = 0, ambiguous = 0;
+    std::size_t distinct_tapes = 0;     ///< pruned tapes actually stored
+    std::size_t tape_instructions = 0;  ///< summed over the distinct tapes
+    std::size_t full_tape_instructions = 0;
+    std::size_t bytes = 0;  ///< nodes + distinct tapes, approximately
+    double build_seconds = 0;
+};
+
+class Octree {
+  public:
+    enum class State : std::uint8_t { Empty, Full, Ambiguous, Branch };
+
+    /// Builds the tree of `tape` (which must outlive the Octree) over `bounds`.
+    Octree(const expr::Tape& tape, const std::array<Interval, 3>& bounds,
+           const OctreeOptions& options = {});
+
+    /// The first root along the ray, certified (see the file contract).
+    RayResult certified(const Ray& ray, const solvers::CertifiedOptions& options) const;
+    /// Sphere tracing with local constants inside the bounds: Hit when |f|/λ < epsilon.
+    RayResult sphere(const Ray& ray, double epsilon, std::uint64_t budget) const;
+
+    const OctreeStats& stats() const noexcept { return stats_; }
+    const std::array<Interval, 3>& bounds() const noexcept { return bounds_; }
+
+  private:
+    struct Node {
+        std::array<Interval, 3> box;
+        State state = State::Ambiguous;
+        std::uint32_t first_child = 0;  ///< Branch: index of the 8 children
+        std::uint32_t tape = 0;         ///< Ambiguous: index into tapes_
+        double lambda = 0;              ///< Ambiguous: local Lipschitz bound
+    };
+    /// A leaf met by the ray, with the parameter segment it covers.
+    struct Segment {
+        std::uint32_t node;
+        double t0, t1;
+    };
+
+    void build();
+    /// The ambiguous leaves met by the ray on [t0, t1], in order of entry.
+    void walk(const Ray& ray, double t0, double t1, std::vector<Segment>& out) const;
+
+    const expr::Tape& tape_;
+    std::array<Interval, 3> bounds_;
+    OctreeOptions options_;
+    std::vector<Node> nodes_;
+    std::vector<std::shared_ptr<const expr::Tape>> tapes_;
+    OctreeStats stats_;
+};
+
+/// The parameter interval where o + t·d lies in `box`, rounded outward; empty if it misses.
+Interval ray_box(const Ray& ray, const std::array<Interval, 3>& box);
+
+}  // namespace certray::tracers
