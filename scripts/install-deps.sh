@@ -7,6 +7,7 @@ packages=(
     libboost-dev libmpfr-dev libgmp-dev libeigen3-dev
     libgtest-dev librapidcheck-dev libbenchmark-dev
     libcli11-dev nlohmann-json3-dev libtbb-dev libpng-dev
+    python3-matplotlib python3-mpmath
 )
 
 missing=()
