@@ -1,0 +1,270 @@
+// apps/render.cpp — `certray render`: options and JSON scenes to tracers/ calls, then a PNG.
+#include "apps/render.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <thread>
+
+#include "expr/input_error.h"
+#include "expr/load.h"
+#include "expr/parser.h"
+#include "expr/tape.h"
+#include "tracers/camera.h"
+#include "tracers/image2d.h"
+#include "tracers/methods.h"
+#include "tracers/png_io.h"
+#include "tracers/render.h"
+
+namespace certray::apps {
+namespace {
+
+namespace fs = std::filesystem;
+using tracers::Box3;
+using tracers::Vec3;
+
+/// What a scene file gives: the graph, and whatever a JSON scene sets.
+struct SceneSpec {
+    expr::Graph graph;
+    std::optional<Box3> bounds;
+    std::optional<nlohmann::json> camera;
+    std::optional<Vec3> light;
+    std::optional<std::string> method;
+    std::optional<std::pair<unsigned, unsigned>> size;
+};
+
+[[noreturn]] void fail(const std::string& file, const std::string& message) {
+    throw InputError(file, 0, 0, message);
+}
+
+Vec3 read_vec3(const std::string& file, const nlohmann::json& j, const std::string& key) {
+    if (!j.is_array() || j.size() != 3 ||
+        !std::all_of(j.begin(), j.end(), [](const auto& v) { return v.is_number(); })) {
+        fail(file, "\"" + key + "\" must be an array of three numbers");
+    }
+    return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
+}
+
+SceneSpec load_json_scene(const std::string& path) {
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(expr::detail::read_file(path));
+    } catch (const nlohmann::json::exception& e) {
+        fail(path, std::string("not valid JSON: ") + e.what());
+    }
+    if (!j.is_object()) fail(path, "a scene must be a JSON object");
+    static const char* kKeys[] = {"scene", "bounds", "camera", "light", "method", "size"};
+    for (const auto& [key, value] : j.items()) {
+        if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys)) {
+            fail(path, "unknown key \"" + key +
+                           "\" (expected scene, bounds, camera, light, method, size)");
+        }
+    }
+    if (!j.contains("scene") || !j["scene"].is_string()) {
+        fail(path, "\"scene\" (a path to an .expr or .vm file) is required");
+    }
+    SceneSpec s;
+    const fs::path scene = fs::path(path).parent_path() / j["scene"].get<std::string>();
+    s.graph = expr::load_graph_file(scene.string());
+    if (j.contains("bounds")) {
+        const auto& b = j["bounds"];
+        if (!b.is_array() || b.size() != 3)
+            fail(path, "\"bounds\" must be [[x0,x1],[y0,y1],[z0,z1]]");
+        Box3 box;
+        for (int a = 0; a < 3; ++a) {
+            if (!b[a].is_array() || b[a].size() != 2 || !b[a][0].is_number() ||
+                !b[a][1].is_number() || !(b[a][0].get<double>() < b[a][1].get<double>())) {
+                fail(path, "\"bounds\" must be [[x0,x1],[y0,y1],[z0,z1]] with lo < hi");
+            }
+            box[a] = {b[a][0].get<double>(), b[a][1].get<double>()};
+        }
+        s.bounds = box;
+    }
+    if (j.contains("camera")) {
+        const auto& c = j["camera"];
+        if (!c.is_object()) fail(path, "\"camera\" must be an object");
+        for (const auto& [key, value] : c.items()) {
+            if (key != "eye" && key != "target" && key != "up" && key != "fov") {
+                fail(path, "unknown key \"camera." + key + "\" (expected eye, target, up, fov)");
+            }
+            if (key == "fov" && !value.is_number()) fail(path, "\"camera.fov\" must be a number");
+            if (key != "fov") read_vec3(path, value, "camera." + key);
+        }
+        s.camera = c;
+    }
+    if (j.contains("light")) s.light = read_vec3(path, j["light"], "light");
+    if (j.contains("method")) {
+        if (!j["method"].is_string()) fail(path, "\"method\" must be a string");
+        s.method = j["method"].get<std::string>();
+    }
+    if (j.contains("size")) {
+        const auto& z = j["size"];
+        if (!z.is_array() || z.size() != 2 || !z[0].is_number_integer() ||
+            !z[1].is_number_integer() || z[0].get<long long>() < 1 || z[1].get<long long>() < 1 ||
+            z[0].get<long long>() > kMaxImageSide || z[1].get<long long>() > kMaxImageSide) {
+            fail(path,
+                 "\"size\" must be [width, height], each 1 to " + std::to_string(kMaxImageSide));
+        }
+        s.size = std::pair{z[0].get<unsigned>(), z[1].get<unsigned>()};
+    }
+    return s;
+}
+
+std::string method_list() {
+    std::string list;
+    for (const std::string& m : tracers::method_names()) list += (list.empty() ? "" : ", ") + m;
+    return list;
+}
+
+int render_2d_scene(const RenderCliOptions& o, const expr::Tape& tape, const SceneSpec& spec,
+                    std::optional<std::pair<unsigned, unsigned>> size, std::ostream& out) {
+    tracers::Image2dOptions io;
+    if (o.bounds.size() == 2) {
+        io.x = io.y = {o.bounds[0], o.bounds[1]};
+    } else if (spec.bounds) {
+        io.x = (*spec.bounds)[0];
+        io.y = (*spec.bounds)[1];
+    }
+    io.width = size ? size->first : 1024;
+    io.height = size ? size->second : 1024;
+    io.threads = o.threads;
+    const tracers::Image2d img = tracers::render_2d(tape, io);
+    tracers::RgbImage rgb(img.width, img.height);
+    for (unsigned j = 0; j < img.height; ++j) {
+        for (unsigned i = 0; i < img.width; ++i) {
+            switch (img.at(i, j)) {
+                case tracers::Pixel2d::Inside:
+                    rgb.set(i, j, 20, 20, 28);
+                    break;
+                case tracers::Pixel2d::Outside:
+                    rgb.set(i, j, 255, 255, 255);
+                    break;
+                case tracers::Pixel2d::Undefined:
+                    rgb.set(i, j, 255, 0, 255);
+                    break;
+            }
+        }
+    }
+    tracers::write_png(o.out, rgb);
+    out << "2D scene " << img.width << "x" << img.height << " over [" << io.x[0] << ", " << io.x[1]
+        << "] x [" << io.y[0] << ", " << io.y[1] << "]: inside (f < 0) " << img.inside
+        << " pixels, undefined (NaN) " << img.undefined << " pixels, " << img.seconds << " s\n";
+    return 0;
+}
+
+}  // namespace
+
+bool parse_size(const std::string& text, unsigned& width, unsigned& height, std::string& error) {
+    const std::size_t x = text.find('x');
+    auto parse = [](std::string_view s, unsigned& v) {
+        if (s.empty() || s.size() > 6) return false;
+        const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+        return ec == std::errc() && p == s.data() + s.size();
+    };
+    if (x == std::string::npos || !parse(std::string_view(text).substr(0, x), width) ||
+        !parse(std::string_view(text).substr(x + 1), height) || width < 1 || height < 1 ||
+        width > kMaxImageSide || height > kMaxImageSide) {
+        error = "--size '" + text +
+                "': expected WxH with whole numbers 1 <= W, H <= " + std::to_string(kMaxImageSide) +
+                " (e.g. 640x480)";
+        return false;
+    }
+    return true;
+}
+
+int run_render(const RenderCliOptions& o, std::ostream& out) {
+    std::optional<std::pair<unsigned, unsigned>> size;
+    if (o.size) {
+        unsigned w = 0, h = 0;
+        std::string error;
+        if (!parse_size(*o.size, w, h, error)) {
+            std::cerr << "certray render: " << error << "\n";
+            return 2;
+        }
+        size = std::pair{w, h};
+    }
+    tracers::Aov aov;
+    if (!tracers::parse_aov(o.aov, aov)) {
+        std::cerr << "certray render: unknown --aov '" << o.aov
+                  << "'; expected shade, depth, steps, normal or status\n";
+        return 2;
+    }
+    if (!o.bounds.empty() && !(o.bounds.size() == 2 && o.bounds[0] < o.bounds[1])) {
+        std::cerr << "certray render: --bounds needs two numbers lo < hi\n";
+        return 2;
+    }
+    const std::vector<std::string> names = tracers::method_names();
+    auto check_method = [&](const std::string& m) {
+        if (std::find(names.begin(), names.end(), m) != names.end()) return true;
+        std::cerr << "certray render: unknown method '" << m
+                  << "'; available methods: " << method_list() << "\n";
+        return false;
+    };
+    if (o.method && !check_method(*o.method)) return 2;
+
+    SceneSpec spec;
+    if (fs::path(o.scene).extension() == ".json") {
+        spec = load_json_scene(o.scene);
+    } else {
+        spec.graph = expr::load_graph_file(o.scene);
+    }
+    if (!size && spec.size) size = spec.size;
+    const expr::Tape tape(spec.graph);
+    if (!tape.uses_var(2)) return render_2d_scene(o, tape, spec, size, out);
+
+    const std::string method = o.method ? *o.method : spec.method.value_or("certified");
+    if (!check_method(method)) return 2;
+    tracers::RenderOptions ro;
+    if (o.bounds.size() == 2) {
+        for (auto& a : ro.bounds) a = {o.bounds[0], o.bounds[1]};
+    } else if (spec.bounds) {
+        ro.bounds = *spec.bounds;
+    }
+    ro.width = size ? size->first : 640;
+    ro.height = size ? size->second : 480;
+    ro.aov = aov;
+    ro.threads = o.threads;
+    ro.progress = true;
+    if (spec.light) ro.light = *spec.light;
+    const double aspect = static_cast<double>(ro.width) / ro.height;
+    const double fov = spec.camera && spec.camera->contains("fov")
+                           ? (*spec.camera)["fov"].get<double>()
+                           : ro.camera.fov_degrees;
+    // Auto-framing: the cells where the surface may be, seen whole from (1, -2, 0.8).
+    const std::vector<Box3> cells = tracers::surface_cells(tape, ro.bounds);
+    const std::optional<Box3> extent = tracers::hull(cells);
+    ro.camera = extent ? tracers::frame_boxes(cells, *extent, fov, aspect)
+                       : tracers::frame_box(ro.bounds, fov, aspect);
+    if (spec.camera) {
+        const auto& c = *spec.camera;
+        if (c.contains("eye")) ro.camera.eye = read_vec3(o.scene, c["eye"], "camera.eye");
+        if (c.contains("target"))
+            ro.camera.target = read_vec3(o.scene, c["target"], "camera.target");
+        if (c.contains("up")) ro.camera.up = read_vec3(o.scene, c["up"], "camera.up");
+    }
+
+    tracers::MethodOptions mo;
+    if (o.budget) mo.budget = *o.budget;
+    if (o.epsilon) mo.epsilon = *o.epsilon;
+    mo.bounds = std::array<Interval, 3>{Interval(ro.bounds[0][0], ro.bounds[0][1]),
+                                        Interval(ro.bounds[1][0], ro.bounds[1][1]),
+                                        Interval(ro.bounds[2][0], ro.bounds[2][1])};
+    const tracers::RayFunction fn = tracers::make_method(method, tape, mo);
+    const tracers::RenderResult r = tracers::render_3d(tape, fn, ro);
+    tracers::write_png(o.out, r.image);
+    const unsigned threads =
+        o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+    out << "3D scene " << ro.width << "x" << ro.height << ", method " << method << ", aov " << o.aov
+        << ": hit " << r.stats.hit << ", miss " << r.stats.miss << ", unknown " << r.stats.unknown
+        << " pixels; evaluations " << r.stats.evals.total() << " (value " << r.stats.evals.value
+        << ", interval " << r.stats.evals.interval << ", gradient " << r.stats.evals.gradient
+        << "; max per pixel " << r.stats.max_pixel_evals << "); " << r.stats.seconds << " s on "
+        << threads << " threads\n";
+    return 0;
+}
+
+}  // namespace certray::apps

@@ -1,0 +1,44 @@
+// apps/render.h — `certray render`: a PNG image of a scene.
+//
+// Contract (DESIGN.md "The command line"): SCENE is an .expr or .vm file (auto-framed inside the
+// bounds; one that does not read z is a 2D scene, drawn as the exact image of f < 0 by the interval
+// quadtree of tracers/image2d.h) or a JSON scene {"scene", "bounds", "camera", "light", "method",
+// "size"} (all optional but "scene", whose path is relative to the JSON file; any other key is an
+// error naming it). Options given on the command line override the JSON's. The PNG is written to
+// OUT.tmp and renamed into place when complete: a failed run leaves no file. Prints a summary on
+// stdout (2D: inside and undefined pixel counts and time; 3D: hit/miss/unknown pixel counts, total
+// evaluations and time).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace certray::apps {
+
+struct RenderCliOptions {
+    std::string scene;                    ///< .expr, .vm or .json
+    std::string out;                      ///< the PNG to write
+    std::optional<std::string> method;    ///< a name of tracers::method_names() (3D only)
+    std::optional<std::string> size;      ///< "WxH"
+    std::string aov = "shade";            ///< shade|depth|steps|normal|status (3D only)
+    std::vector<double> bounds;           ///< {lo, hi}: the cube [lo, hi]^3 (2D: the square)
+    unsigned threads = 0;                 ///< 0: one per hardware thread
+    std::optional<std::uint64_t> budget;  ///< evaluations per ray before unknown
+    std::optional<double> epsilon;        ///< convergence distance of the tracers
+};
+
+/// Largest accepted image side.
+inline constexpr unsigned kMaxImageSide = 16384;
+
+/// Parses "WxH" with 1 ≤ W, H ≤ kMaxImageSide; false with a message in `error` otherwise.
+bool parse_size(const std::string& text, unsigned& width, unsigned& height, std::string& error);
+
+/// Runs the render; returns the exit code (0 success, 2 for bad options after printing why on
+/// stderr). Throws certray::InputError for bad scene files and std::runtime_error when the image
+/// cannot be written.
+int run_render(const RenderCliOptions& options, std::ostream& out);
+
+}  // namespace certray::apps

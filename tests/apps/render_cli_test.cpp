@@ -1,0 +1,135 @@
+// tests/apps/render_cli_test.cpp — `certray render` end to end: runs the built binary on 3D, 2D
+// and JSON scenes and checks the PNG files, the printed counts, and that bad options fail with a
+// message and leave no file behind.
+#include <gtest/gtest.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "tracers/png_io.h"
+
+#ifndef CERTRAY_CLI
+#error "CERTRAY_CLI must name the certray executable"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+class RenderCli : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        std::string tmpl = (fs::temp_directory_path() / "certray_render_XXXXXX").string();
+        ASSERT_NE(mkdtemp(tmpl.data()), nullptr);
+        dir_ = tmpl;
+        write("sphere.expr", "x^2 + y^2 + z^2 - 1\n");
+        write("disk.expr", "x^2 + y^2 - 0.5625\n");
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(dir_, ec);
+    }
+
+    fs::path path(const std::string& name) const { return dir_ / name; }
+    void write(const std::string& name, const std::string& text) const {
+        std::ofstream(path(name), std::ios::binary) << text;
+    }
+
+    /// Runs `certray ARGS` in the temporary directory; returns the exit code, with stdout in out_
+    /// and stderr in err_.
+    int run(const std::string& args) {
+        const std::string cmd = "cd '" + dir_.string() + "' && '" CERTRAY_CLI "' " + args + " > '" +
+                                path("stdout.txt").string() + "' 2> '" +
+                                path("stderr.txt").string() + "'";
+        const int status = std::system(cmd.c_str());
+        out_ = slurp(path("stdout.txt"));
+        err_ = slurp(path("stderr.txt"));
+        if (status == -1 || !WIFEXITED(status)) return -1;
+        return WEXITSTATUS(status);
+    }
+
+    fs::path dir_;
+    std::string out_, err_;
+};
+
+TEST_F(RenderCli, Renders3dScene) {
+    for (const char* aov : {"shade", "depth", "steps", "normal", "status"}) {
+        ASSERT_EQ(run(std::string("render sphere.expr -o out.png --size 40x30 --aov ") + aov), 0)
+            << err_;
+        const certray::tracers::RgbImage img = certray::tracers::read_png(path("out.png").string());
+        EXPECT_EQ(img.width, 40u);
+        EXPECT_EQ(img.height, 30u);
+        EXPECT_NE(out_.find("hit "), std::string::npos) << out_;
+        EXPECT_NE(out_.find("unknown 0"), std::string::npos) << out_;
+        EXPECT_FALSE(fs::exists(path("out.png.tmp")));
+    }
+}
+
+TEST_F(RenderCli, Renders2dSceneWithExactCount) {
+    // 64×64 over [−1, 1]²: centres (2i + 1 − 64)/64 exactly, so f < 0 ⇔ a² + b² < 0.5625·64².
+    long expected = 0;
+    for (long i = 0; i < 64; ++i) {
+        for (long j = 0; j < 64; ++j) {
+            const long a = 2 * i + 1 - 64, b = 2 * j + 1 - 64;
+            expected += a * a + b * b < 2304;
+        }
+    }
+    ASSERT_EQ(run("render disk.expr -o disk.png --size 64x64"), 0) << err_;
+    EXPECT_NE(out_.find("inside (f < 0) " + std::to_string(expected) + " pixels"),
+              std::string::npos)
+        << out_ << " expected " << expected;
+    const certray::tracers::RgbImage img = certray::tracers::read_png(path("disk.png").string());
+    EXPECT_EQ(img.width, 64u);
+    EXPECT_EQ(img.height, 64u);
+}
+
+TEST_F(RenderCli, JsonScene) {
+    write("scene.json",
+          R"({"scene": "sphere.expr", "size": [20, 10], "method": "certified",
+              "camera": {"eye": [0, -5, 0], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 30},
+              "bounds": [[-2, 2], [-2, 2], [-2, 2]], "light": [0, -1, 1]})");
+    ASSERT_EQ(run("render scene.json -o j.png"), 0) << err_;
+    const certray::tracers::RgbImage img = certray::tracers::read_png(path("j.png").string());
+    EXPECT_EQ(img.width, 20u);
+    EXPECT_EQ(img.height, 10u);
+    write("bad.json", R"({"scene": "sphere.expr", "colour": 3})");
+    EXPECT_NE(run("render bad.json -o bad.png"), 0);
+    EXPECT_NE(err_.find("colour"), std::string::npos) << err_;
+    EXPECT_FALSE(fs::exists(path("bad.png")));
+}
+
+TEST_F(RenderCli, BadOptionsFailAndLeaveNoFile) {
+    for (const char* size : {"0x5", "abc", "20000x10", "10x", "x10", "5x-3", "1.5x2"}) {
+        EXPECT_NE(run(std::string("render sphere.expr -o bad.png --size ") + size), 0) << size;
+        EXPECT_NE(err_.find("--size"), std::string::npos) << size << ": " << err_;
+        EXPECT_FALSE(fs::exists(path("bad.png"))) << size;
+        EXPECT_FALSE(fs::exists(path("bad.png.tmp"))) << size;
+    }
+    EXPECT_NE(run("render sphere.expr -o bad.png --method nosuch"), 0);
+    EXPECT_NE(err_.find("certified"), std::string::npos) << err_;  // the list of methods
+    EXPECT_FALSE(fs::exists(path("bad.png")));
+    EXPECT_NE(run("render missing.expr -o bad.png"), 0);
+    EXPECT_FALSE(fs::exists(path("bad.png")));
+    EXPECT_NE(run("render sphere.expr -o no_such_dir/bad.png --size 8x8"), 0);
+    EXPECT_FALSE(fs::exists(path("no_such_dir")));
+}
+
+TEST_F(RenderCli, HelpDescribesRender) {
+    ASSERT_EQ(run("render --help"), 0);
+    for (const char* word : {"--size", "--aov", "--method", "--bounds", "--threads", "2D"}) {
+        EXPECT_NE(out_.find(word), std::string::npos) << word;
+    }
+}
+
+}  // namespace

@@ -1,0 +1,191 @@
+// tests/tracers/render_test.cpp — 3D rendering (tracers/render, tracers/camera) and PNG files
+// (tracers/png_io): a unit sphere seen head-on against the closed-form ray–sphere intersection.
+#include "tracers/render.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <string>
+
+#include "expr/parser.h"
+#include "expr/tape.h"
+#include "tracers/camera.h"
+#include "tracers/methods.h"
+#include "tracers/png_io.h"
+
+namespace certray::tracers {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The unit sphere seen from (0, −5, 0) looking at the origin: 33×33 pixels, so that the centre
+/// pixel (16, 16) is the ray straight down the y axis.
+RenderOptions sphere_view() {
+    RenderOptions o;
+    o.width = 33;
+    o.height = 33;
+    o.camera.eye = {0, -5, 0};
+    o.camera.target = {0, 0, 0};
+    o.camera.up = {0, 0, 1};
+    o.camera.fov_degrees = 30;
+    o.light = {0, -1, 0};  // from the camera
+    o.threads = 2;
+    return o;
+}
+
+const expr::Tape& sphere() {
+    static const expr::Tape t(expr::parse_expr("x^2 + y^2 + z^2 - 1"));
+    return t;
+}
+
+RenderResult render_sphere(const RenderOptions& o, std::uint64_t budget = 20000) {
+    MethodOptions mo;
+    mo.budget = budget;
+    return render_3d(sphere(), make_method("certified", sphere(), mo), o);
+}
+
+TEST(Render, SphereHeadOnMatchesTheClosedForm) {
+    const RenderOptions o = sphere_view();
+    const RenderResult r = render_sphere(o);
+    const auto& a = r.answers;
+    // The centre ray o = (0, −5, 0), d = (0, 1, 0) meets y = −1 at t = 4.
+    const std::size_t centre = 16 * 33 + 16;
+    ASSERT_EQ(a.status[centre], Status::Hit);
+    EXPECT_NEAR(a.t[centre], 4.0, 1e-9);
+    // The normal there is (0, −1, 0), facing the camera.
+    EXPECT_NEAR(a.normal[centre][1], -1.0f, 1e-6f);
+    // Corners: about 20° off axis, the sphere subtends asin(1/5) ≈ 11.5°.
+    EXPECT_EQ(a.status[0], Status::Miss);
+    EXPECT_EQ(a.status[33 * 33 - 1], Status::Miss);
+    // Every pixel against |o + t·d|² = 1: t = −b − √(b² − c), b = o·d, c = |o|² − 1 (|d| = 1).
+    const CameraFrame frame(o.camera, o.width, o.height);
+    std::size_t hits = 0;
+    for (unsigned j = 0; j < 33; ++j) {
+        for (unsigned i = 0; i < 33; ++i) {
+            const Ray ray = frame.ray(i + 0.5, j + 0.5);
+            const double b = dot(ray.o, ray.d), c = dot(ray.o, ray.o) - 1;
+            const double disc = b * b - c;
+            const std::size_t k = j * 33 + i;
+            if (std::abs(disc) < 1e-6) continue;  // grazing: either answer is honest
+            if (disc < 0) {
+                EXPECT_EQ(a.status[k], Status::Miss) << i << "," << j;
+            } else {
+                ++hits;
+                EXPECT_EQ(a.status[k], Status::Hit) << i << "," << j;
+                EXPECT_NEAR(a.t[k], -b - std::sqrt(disc), 1e-7) << i << "," << j;
+            }
+        }
+    }
+    EXPECT_GT(hits, 100u);
+    EXPECT_EQ(r.stats.hit + r.stats.miss + r.stats.unknown, 33u * 33u);
+    EXPECT_EQ(r.stats.hit, hits);
+    EXPECT_GT(r.stats.evals.total(), 0u);
+}
+
+TEST(Render, StatusAovColoursAndUnknownsAreMarked) {
+    RenderOptions o = sphere_view();
+    o.aov = Aov::Status;
+    const RenderResult r = render_sphere(o);
+    const std::uint8_t* centre = r.image.at(16, 16);
+    EXPECT_EQ(centre[0], 255);  // hit: white
+    EXPECT_EQ(centre[1], 255);
+    EXPECT_EQ(centre[2], 255);
+    const std::uint8_t* corner = r.image.at(0, 0);
+    EXPECT_LT(corner[0], 40);  // miss: dark blue
+    EXPECT_GT(corner[2], corner[0]);
+    // A budget of 2 evaluations cannot prove a hit: those pixels are unknown, shown magenta.
+    const RenderResult u = render_sphere(o, 2);
+    EXPECT_GT(u.stats.unknown, 0u);
+    EXPECT_EQ(u.answers.status[16 * 33 + 16], Status::Unknown);
+    const std::uint8_t* m = u.image.at(16, 16);
+    EXPECT_EQ(m[0], 255);
+    EXPECT_EQ(m[1], 0);
+    EXPECT_EQ(m[2], 255);
+}
+
+TEST(Render, ShadeFollowsLambert) {
+    const RenderResult r = render_sphere(sphere_view());
+    // Light from the camera: the centre (normal towards the light) is the brightest hit; a hit
+    // near the rim (oblique normal) is darker.
+    const std::uint8_t* centre = r.image.at(16, 16);
+    unsigned rim = 16;
+    while (rim > 0 && r.answers.status[16 * 33 + rim - 1] == Status::Hit) --rim;
+    ASSERT_LT(rim, 16u);
+    EXPECT_GT(centre[0], r.image.at(rim, 16)[0] + 20);
+}
+
+TEST(Render, ThreadsGiveTheSameAnswers) {
+    RenderOptions o = sphere_view();
+    o.threads = 1;
+    const RenderResult one = render_sphere(o);
+    o.threads = 3;
+    const RenderResult three = render_sphere(o);
+    EXPECT_EQ(one.answers.status, three.answers.status);
+    EXPECT_EQ(one.image.rgb, three.image.rgb);
+}
+
+TEST(Camera, ClipRayToBounds) {
+    const Box3 box{{{-2, 2}, {-2, 2}, {-2, 2}}};
+    Ray r;
+    r.o = {0, -5, 0};
+    r.d = {0, 1, 0};
+    ASSERT_TRUE(clip_ray(r, box));
+    EXPECT_LE(r.tmin, 3.0);  // enters at y = −2, t = 3
+    EXPECT_NEAR(r.tmin, 3.0, 1e-12);
+    EXPECT_GE(r.tmax, 7.0);  // leaves at y = 2, t = 7
+    EXPECT_NEAR(r.tmax, 7.0, 1e-12);
+    Ray away = r;
+    away.d = {0, -1, 0};
+    EXPECT_FALSE(clip_ray(away, box));
+    Ray beside;
+    beside.o = {3, 0, 0};
+    beside.d = {0, 0, 1};
+    EXPECT_FALSE(clip_ray(beside, box));
+}
+
+TEST(Camera, SurfaceExtentEnclosesTheSurface) {
+    const Box3 bounds{{{-2, 2}, {-2, 2}, {-2, 2}}};
+    const auto box = surface_extent(sphere(), bounds);
+    ASSERT_TRUE(box.has_value());
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_LE((*box)[a][0], -1.0);
+        EXPECT_GE((*box)[a][1], 1.0);
+        EXPECT_GE((*box)[a][0], -1.5);  // cells of side 1/8 around the sphere
+        EXPECT_LE((*box)[a][1], 1.5);
+    }
+    EXPECT_FALSE(surface_extent(expr::Tape(expr::parse_expr("x^2 + y^2 + z^2 + 1")), bounds));
+    // A framed camera sees the whole box: its centre ray hits the sphere.
+    const Camera cam = frame_box(*box, 35, 4.0 / 3.0);
+    const CameraFrame f(cam, 64, 48);
+    Ray r = f.ray(32, 24);
+    ASSERT_TRUE(clip_ray(r, bounds));
+    EXPECT_EQ(make_method("certified", sphere(), {})(r).status, Status::Hit);
+}
+
+TEST(Png, RoundTrip) {
+    const fs::path dir =
+        fs::temp_directory_path() / ("certray_png_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    RgbImage img(37, 21);
+    std::mt19937 rng(7);
+    for (auto& b : img.rgb) b = static_cast<std::uint8_t>(rng());
+    const std::string path = (dir / "a.png").string();
+    write_png(path, img);
+    EXPECT_FALSE(fs::exists(path + ".tmp"));
+    const RgbImage back = read_png(path);
+    EXPECT_EQ(back.width, 37u);
+    EXPECT_EQ(back.height, 21u);
+    EXPECT_EQ(back.rgb, img.rgb);
+    // An unwritable place: an error, and no file.
+    const std::string bad = (dir / "no_such_dir" / "b.png").string();
+    EXPECT_THROW(write_png(bad, img), std::runtime_error);
+    EXPECT_FALSE(fs::exists(bad));
+    EXPECT_THROW(read_png((dir / "missing.png").string()), std::runtime_error);
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace certray::tracers

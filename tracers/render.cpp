@@ -1,0 +1,249 @@
+// tracers/render.cpp — the 3D tile loop and the AOV colourings (see render.h).
+#include "tracers/render.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "expr/derived.h"
+
+namespace certray::tracers {
+namespace {
+
+constexpr unsigned kTile = 16;
+
+std::uint8_t to_byte(double v) {
+    if (!(v > 0)) return 0;
+    if (v >= 1) return 255;
+    return static_cast<std::uint8_t>(std::lround(v * 255.0));
+}
+
+void put(RgbImage& img, unsigned i, unsigned j, double r, double g, double b) {
+    img.set(i, j, to_byte(r), to_byte(g), to_byte(b));
+}
+
+/// A perceptual-ish ramp (dark blue → teal → yellow → red) for t in [0, 1].
+void ramp(double t, double& r, double& g, double& b) {
+    static constexpr double kStops[5][3] = {{0.05, 0.03, 0.30},
+                                            {0.10, 0.45, 0.60},
+                                            {0.35, 0.75, 0.35},
+                                            {0.98, 0.85, 0.20},
+                                            {0.85, 0.10, 0.10}};
+    t = std::clamp(t, 0.0, 1.0) * 4;
+    const int k = std::min(3, static_cast<int>(t));
+    const double f = t - k;
+    r = kStops[k][0] + f * (kStops[k + 1][0] - kStops[k][0]);
+    g = kStops[k][1] + f * (kStops[k + 1][1] - kStops[k][1]);
+    b = kStops[k][2] + f * (kStops[k + 1][2] - kStops[k][2]);
+}
+
+void background(unsigned j, unsigned height, double& r, double& g, double& b) {
+    const double s = height > 1 ? static_cast<double>(j) / (height - 1) : 0.0;
+    r = 0.62 - 0.35 * s;
+    g = 0.70 - 0.35 * s;
+    b = 0.82 - 0.30 * s;
+}
+
+}  // namespace
+
+bool parse_aov(std::string_view name, Aov& aov) {
+    static constexpr std::pair<std::string_view, Aov> kNames[] = {{"shade", Aov::Shade},
+                                                                  {"depth", Aov::Depth},
+                                                                  {"steps", Aov::Steps},
+                                                                  {"normal", Aov::Normal},
+                                                                  {"status", Aov::Status}};
+    for (const auto& [n, a] : kNames) {
+        if (n == name) {
+            aov = a;
+            return true;
+        }
+    }
+    return false;
+}
+
+RgbImage colorize(const PixelAnswers& ans, Aov aov, const Vec3& light) {
+    RgbImage img(ans.width, ans.height);
+    const Vec3 l = normalize(light);
+    double tmin = std::numeric_limits<double>::infinity(), tmax = -tmin;
+    std::uint64_t emax = 0;
+    for (std::size_t k = 0; k < ans.status.size(); ++k) {
+        if (ans.status[k] == Status::Hit) {
+            tmin = std::min(tmin, ans.t[k]);
+            tmax = std::max(tmax, ans.t[k]);
+        }
+        emax = std::max(emax, ans.evals[k]);
+    }
+    const double log_emax = std::log1p(static_cast<double>(emax));
+    for (unsigned j = 0; j < ans.height; ++j) {
+        for (unsigned i = 0; i < ans.width; ++i) {
+            const std::size_t k = std::size_t{j} * ans.width + i;
+            const Status s = ans.status[k];
+            const auto& n = ans.normal[k];
+            double r = 0, g = 0, b = 0;
+            switch (aov) {
+                case Aov::Shade:
+                    if (s == Status::Hit) {
+                        const double lambert =
+                            std::max(0.0, n[0] * l[0] + n[1] * l[1] + n[2] * l[2]);
+                        const double c = 0.18 + 0.82 * lambert;
+                        r = 0.92 * c;
+                        g = 0.86 * c;
+                        b = 0.74 * c;
+                    } else if (s == Status::Miss) {
+                        background(j, ans.height, r, g, b);
+                    } else {
+                        r = 1, g = 0, b = 1;
+                    }
+                    break;
+                case Aov::Depth:
+                    if (s == Status::Hit) {
+                        const double d = tmax > tmin ? (ans.t[k] - tmin) / (tmax - tmin) : 0.0;
+                        r = g = b = 1.0 - 0.85 * d;
+                    } else if (s == Status::Unknown) {
+                        r = 1, g = 0, b = 1;
+                    }
+                    break;
+                case Aov::Steps:
+                    ramp(log_emax > 0 ? std::log1p(static_cast<double>(ans.evals[k])) / log_emax
+                                      : 0.0,
+                         r, g, b);
+                    break;
+                case Aov::Normal:
+                    if (s == Status::Hit) {
+                        r = 0.5 * (n[0] + 1), g = 0.5 * (n[1] + 1), b = 0.5 * (n[2] + 1);
+                    } else if (s == Status::Unknown) {
+                        r = 1, g = 0, b = 1;
+                    }
+                    break;
+                case Aov::Status:
+                    if (s == Status::Hit) {
+                        r = g = b = 1;
+                    } else if (s == Status::Miss) {
+                        r = 0.05, g = 0.08, b = 0.35;
+                    } else {
+                        r = 1, g = 0, b = 1;
+                    }
+                    break;
+            }
+            put(img, i, j, r, g, b);
+        }
+    }
+    return img;
+}
+
+RenderResult render_3d(const expr::Tape& tape, const RayFunction& method,
+                       const RenderOptions& options) {
+    const CameraFrame frame(options.camera, options.width, options.height);
+    const auto start = std::chrono::steady_clock::now();
+    RenderResult result;
+    PixelAnswers& ans = result.answers;
+    ans.width = options.width;
+    ans.height = options.height;
+    const std::size_t pixels = std::size_t{ans.width} * ans.height;
+    ans.status.assign(pixels, Status::Miss);
+    ans.t.assign(pixels, std::numeric_limits<double>::quiet_NaN());
+    ans.evals.assign(pixels, 0);
+    ans.normal.assign(pixels, {0.f, 0.f, 0.f});
+
+    const unsigned tiles_x = (ans.width + kTile - 1) / kTile;
+    const unsigned tiles_y = (ans.height + kTile - 1) / kTile;
+    const std::size_t tiles = std::size_t{tiles_x} * tiles_y;
+    std::atomic<std::size_t> next{0}, done{0};
+    std::mutex mutex;
+    std::condition_variable finished_cv;
+    unsigned finished = 0;
+    std::exception_ptr error;
+    std::vector<EvalCounts> sums;
+
+    auto worker = [&](EvalCounts& sum) {
+        try {
+            for (;;) {
+                const std::size_t t = next.fetch_add(1, std::memory_order_relaxed);
+                if (t >= tiles) break;
+                const unsigned i0 = static_cast<unsigned>(t % tiles_x) * kTile;
+                const unsigned j0 = static_cast<unsigned>(t / tiles_x) * kTile;
+                const unsigned i1 = std::min(ans.width, i0 + kTile);
+                const unsigned j1 = std::min(ans.height, j0 + kTile);
+                for (unsigned j = j0; j < j1; ++j) {
+                    for (unsigned i = i0; i < i1; ++i) {
+                        const std::size_t k = std::size_t{j} * ans.width + i;
+                        Ray ray = frame.ray(i + 0.5, j + 0.5);
+                        if (!clip_ray(ray, options.bounds)) continue;  // a Miss, no evaluation
+                        const RayResult r = method(ray);
+                        sum += r.evals;
+                        ans.status[k] = r.status;
+                        ans.evals[k] = r.evals.total();
+                        if (r.status == Status::Miss) continue;
+                        ans.t[k] = r.t;
+                        if (r.status != Status::Hit) continue;
+                        const Vec3 p{ray.o[0] + r.t * ray.d[0], ray.o[1] + r.t * ray.d[1],
+                                     ray.o[2] + r.t * ray.d[2]};
+                        const Dual<double, 3> g = expr::gradient(tape, p);
+                        Vec3 n = normalize({g.v[0], g.v[1], g.v[2]});
+                        if (dot(n, ray.d) > 0) n = {-n[0], -n[1], -n[2]};
+                        ans.normal[k] = {static_cast<float>(n[0]), static_cast<float>(n[1]),
+                                         static_cast<float>(n[2])};
+                    }
+                }
+                done.fetch_add(1, std::memory_order_relaxed);
+            }
+        } catch (...) {
+            std::lock_guard lock(mutex);
+            if (!error) error = std::current_exception();
+            next.store(tiles);
+        }
+        std::lock_guard lock(mutex);
+        ++finished;
+        finished_cv.notify_all();
+    };
+
+    const unsigned workers = static_cast<unsigned>(std::clamp<std::size_t>(
+        options.threads > 0 ? options.threads : std::thread::hardware_concurrency(), 1,
+        std::max<std::size_t>(tiles, 1)));
+    sums.resize(workers);
+    std::vector<std::thread> pool;
+    pool.reserve(workers);
+    for (unsigned w = 0; w < workers; ++w) pool.emplace_back(worker, std::ref(sums[w]));
+
+    const bool bar = options.progress && isatty(STDERR_FILENO) != 0;
+    {
+        std::unique_lock lock(mutex);
+        while (!finished_cv.wait_for(lock, std::chrono::milliseconds(200),
+                                     [&] { return finished == workers; })) {
+            if (!bar) continue;
+            const std::size_t d = done.load(std::memory_order_relaxed);
+            const int filled = static_cast<int>(40 * d / std::max<std::size_t>(tiles, 1));
+            std::fprintf(stderr, "\rcertray render [%-40.*s] %zu/%zu tiles", filled,
+                         "########################################", d, tiles);
+            std::fflush(stderr);
+        }
+    }
+    for (std::thread& th : pool) th.join();
+    if (bar) {
+        std::fprintf(stderr, "\rcertray render [%s] %zu/%zu tiles\n",
+                     "########################################", tiles, tiles);
+    }
+    if (error) std::rethrow_exception(error);
+
+    RenderStats& st = result.stats;
+    for (const EvalCounts& s : sums) st.evals += s;
+    for (std::size_t k = 0; k < pixels; ++k) {
+        st.hit += ans.status[k] == Status::Hit;
+        st.miss += ans.status[k] == Status::Miss;
+        st.unknown += ans.status[k] == Status::Unknown;
+        st.max_pixel_evals = std::max(st.max_pixel_evals, ans.evals[k]);
+    }
+    result.image = colorize(ans, options.aov, options.light);
+    st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+}  // namespace certray::tracers

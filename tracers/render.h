@@ -1,0 +1,78 @@
+// tracers/render.h — 3D images: one ray per pixel answered by any registered method, shown as an
+// AOV (shade, depth, steps, normal, status).
+//
+// Contract: pixel (i, j) (j = 0 the top row) is the camera ray through its centre, clipped to the
+// bounds box (camera.h), answered by the RayFunction (tracers/methods.h) — a ray that misses the
+// box is a Miss with no evaluation. The statistics count every pixel's status and the method's
+// whole-tape evaluations. The AOVs: shade = Lambert + ambient from the gradient of f at the hit
+// point t (one directional light), misses show a background gradient and unknowns magenta;
+// depth = hit distance, near bright; steps = evaluations per pixel on a log colour ramp; normal =
+// (n + 1)/2 as RGB; status = hit white, miss dark blue, unknown magenta. Tiles of 16×16 pixels are
+// spread over threads; no allocation per pixel beyond what the method does.
+// Reference: pbrt-v4's film/tile loop; docs/theory/rendering.md.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "expr/tape.h"
+#include "solvers/ray.h"
+#include "tracers/camera.h"
+#include "tracers/methods.h"
+#include "tracers/png_io.h"
+
+namespace certray::tracers {
+
+/// What a 3D image shows.
+enum class Aov : std::uint8_t { Shade, Depth, Steps, Normal, Status };
+
+/// The AOV named `name` ("shade", "depth", "steps", "normal", "status"); false if unknown.
+bool parse_aov(std::string_view name, Aov& aov);
+
+/// Everything a 3D image needs besides the scene and the method.
+struct RenderOptions {
+    unsigned width = 640;
+    unsigned height = 480;
+    Camera camera;
+    Box3 bounds{{{-2, 2}, {-2, 2}, {-2, 2}}};
+    Vec3 light{-0.4, -0.9, 1.2};  ///< direction towards the light (normalised when used)
+    Aov aov = Aov::Shade;
+    unsigned threads = 0;   ///< worker threads; 0: one per hardware thread
+    bool progress = false;  ///< draw a progress bar on stderr (when it is a terminal)
+};
+
+/// Per-image totals.
+struct RenderStats {
+    std::uint64_t hit = 0, miss = 0, unknown = 0;
+    EvalCounts evals;
+    std::uint64_t max_pixel_evals = 0;
+    double seconds = 0;
+};
+
+/// The answers of every pixel (row-major, top row first), before colouring.
+struct PixelAnswers {
+    unsigned width = 0, height = 0;
+    std::vector<Status> status;
+    std::vector<double> t;                     ///< hit (or unknown) parameter; NaN for a miss
+    std::vector<std::uint64_t> evals;          ///< evals.total() per pixel
+    std::vector<std::array<float, 3>> normal;  ///< unit normal at a hit (facing the camera)
+};
+
+/// The image and its totals.
+struct RenderResult {
+    RgbImage image;
+    PixelAnswers answers;
+    RenderStats stats;
+};
+
+/// Renders `tape` with `method` (see the file contract). Throws std::invalid_argument for a bad
+/// camera or an empty size; rethrows what the method throws.
+RenderResult render_3d(const expr::Tape& tape, const RayFunction& method,
+                       const RenderOptions& options);
+
+/// Colours answers as `aov` (used by render_3d; exposed to recolour without re-tracing).
+RgbImage colorize(const PixelAnswers& answers, Aov aov, const Vec3& light);
+
+}  // namespace certray::tracers
