@@ -1,5 +1,7 @@
 // apps/certray.cpp — the certray command line: parses arguments and calls the library.
 #include <CLI/CLI.hpp>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
@@ -12,6 +14,7 @@
 #include "apps/query.h"
 #include "apps/render.h"
 #include "expr/input_error.h"
+#include "tracers/methods.h"
 
 int main(int argc, char** argv) {
     CLI::App app{"certray: certified ray–implicit-surface queries on interval arithmetic"};
@@ -45,7 +48,9 @@ int main(int argc, char** argv) {
                      "finite numbers (decimal or hex-float)")
         ->required();
     cmd_query
-        ->add_option("--method", query.method, "Root-finding method; available: " + method_list)
+        ->add_option(
+            "--method", query.method,
+            "Root-finding method (`certray methods` describes them); available: " + method_list)
         ->required();
     cmd_query
         ->add_option("--out", query.out,
@@ -57,12 +62,37 @@ int main(int argc, char** argv) {
                           "evaluation counts by kind, per-ray evaluations, status counts");
     cmd_query
         ->add_option("--budget", query.budget,
-                     "Most whole-tape evaluations per ray before answering unknown "
-                     "(certified)")
+                     "Most whole-tape evaluations per ray before answering unknown (every "
+                     "method)")
         ->capture_default_str()
         ->check(CLI::Range(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max()));
     cmd_query->add_option("--threads", query.threads, "Worker threads (0: one per hardware thread)")
         ->capture_default_str();
+    cmd_query
+        ->add_option("--epsilon", query.knobs.epsilon,
+                     "Convergence distance of the tracers (sphere, enhanced, segment, octree, "
+                     "march refinement)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd_query->add_option("--step", query.knobs.step, "Fixed step of ray marching (march)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd_query
+        ->add_option("--kappa", query.knobs.kappa,
+                     "Over-relaxation of enhanced sphere tracing: steps of (1 + kappa)|f|/lambda")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    cmd_query->add_option("--samples", query.knobs.samples, "Samples along the ray (hermite)")
+        ->capture_default_str()
+        ->check(CLI::Range(1u, 1000000u));
+    std::vector<double> query_bounds;
+    cmd_query
+        ->add_option("--bounds", query_bounds,
+                     "Scene bounds, the cube [lo, hi]^3: where global Lipschitz constants and the "
+                     "octree are computed (default: each ray's own segment; octree [-2, 2]^3)")
+        ->expected(2);
+    CLI::App* cmd_methods =
+        app.add_subcommand("methods", "List the ray methods with what they do and their knobs");
 
     // ---- render: `certray render` (apps/render.h) -------------------------------------------
     certray::apps::RenderCliOptions render;
@@ -115,7 +145,19 @@ int main(int argc, char** argv) {
             }
             for (const std::string& s : scenes) certray::apps::inspect_scene(s, inspect, std::cout);
         }
-        if (cmd_query->parsed()) return certray::apps::run_query(query);
+        if (cmd_methods->parsed()) std::cout << certray::tracers::describe_methods();
+        if (cmd_query->parsed()) {
+            if (!query_bounds.empty()) {
+                if (!(query_bounds[0] < query_bounds[1]) || !std::isfinite(query_bounds[0]) ||
+                    !std::isfinite(query_bounds[1])) {
+                    std::cerr << "certray query: --bounds needs finite lo < hi\n";
+                    return 2;
+                }
+                const certray::Interval b(query_bounds[0], query_bounds[1]);
+                query.knobs.bounds = std::array<certray::Interval, 3>{b, b, b};
+            }
+            return certray::apps::run_query(query);
+        }
         if (cmd_render->parsed()) return certray::apps::run_render(render, std::cout);
     } catch (const certray::InputError& e) {
         std::cerr << "certray: " << e.what() << "\n";

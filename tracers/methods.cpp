@@ -32,8 +32,9 @@ const Entry kMethods[] = {
              [&tape, opt](const Ray& ray) { return solvers::certified_first_root(tape, ray, opt); };
      }},
     {"certified-affine",
-     "certified, each parameter interval also enclosed by the affine form of g in t (tighter on "
-     "long segments, two evaluations per step); certified; knob: --budget",
+     "certified, where the interval enclosure of g over a parameter interval holds 0 it is "
+     "intersected with the affine form of g in t (tighter on long segments; one more "
+     "evaluation); certified; knob: --budget",
      [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
          solvers::CertifiedOptions opt;
          opt.budget = o.budget;
