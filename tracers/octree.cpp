@@ -16,8 +16,16 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// The box widened by 2⁻²⁰ of its size on every side (rounded outward): the region a cell's
-/// pruned tape and λ are valid on, so that points a few ulps outside the cell stay covered.
+/// Scratch of one thread.
+struct Scratch {
+    std::vector<std::uint32_t> stack;
+    std::vector<std::pair<double, std::uint32_t>> children;
+    expr::Evaluator<double> value;
+};
+thread_local Scratch t_scratch;
+
+}  // namespace
+
 std::array<Interval, 3> inflate(const std::array<Interval, 3>& box) {
     std::array<Interval, 3> r;
     for (int i = 0; i < 3; ++i) {
@@ -28,7 +36,6 @@ std::array<Interval, 3> inflate(const std::array<Interval, 3>& box) {
     return r;
 }
 
-/// True when every point o + t·d, t in [t0, t1], provably lies in `box`.
 bool segment_inside(const Ray& ray, double t0, double t1, const std::array<Interval, 3>& box) {
     if (!(std::isfinite(t0) && std::isfinite(t1))) return false;
     const Interval t(t0, t1);
@@ -38,16 +45,6 @@ bool segment_inside(const Ray& ray, double t0, double t1, const std::array<Inter
     }
     return true;
 }
-
-/// Scratch of one thread.
-struct Scratch {
-    std::vector<std::uint32_t> stack;
-    std::vector<std::pair<double, std::uint32_t>> children;
-    expr::Evaluator<double> value;
-};
-thread_local Scratch t_scratch;
-
-}  // namespace
 
 Interval ray_box(const Ray& ray, const std::array<Interval, 3>& box) {
     double te = -kInf, tx = kInf;

@@ -62,6 +62,27 @@ class Octree {
     /// Sphere tracing with local constants inside the bounds: Hit when |f|/λ < epsilon.
     RayResult sphere(const Ray& ray, double epsilon, std::uint64_t budget) const;
 
+    /// An ambiguous leaf met by a ray, with the parameter segment [t0, t1] it covers.
+    struct Segment {
+        std::uint32_t node;
+        double t0, t1;
+    };
+    /// The ambiguous leaves met by the ray on [t0, t1] (clip to the bounds first: ray_box), in
+    /// order of entry; consecutive segments overlap by a few ulps (see the file contract).
+    void walk(const Ray& ray, double t0, double t1, std::vector<Segment>& out) const;
+    /// The box of node `node` (a leaf index from walk()).
+    const std::array<Interval, 3>& box(std::uint32_t node) const { return nodes_[node].box; }
+    /// The pruned tape of an ambiguous leaf, valid on inflate(box(node)).
+    const expr::Tape& leaf_tape(std::uint32_t node) const { return *tapes_[nodes_[node].tape]; }
+    /// The Lipschitz bound of an ambiguous leaf over inflate(box(node)).
+    double leaf_lambda(std::uint32_t node) const { return nodes_[node].lambda; }
+    /// The number of nodes (valid indices are 0 … node_count() − 1).
+    std::size_t node_count() const noexcept { return nodes_.size(); }
+    /// The state of a node.
+    State state(std::uint32_t node) const { return nodes_[node].state; }
+    /// The full tape the tree was built from.
+    const expr::Tape& tape() const noexcept { return tape_; }
+
     const OctreeStats& stats() const noexcept { return stats_; }
     const std::array<Interval, 3>& bounds() const noexcept { return bounds_; }
 
@@ -73,15 +94,7 @@ class Octree {
         std::uint32_t tape = 0;         ///< Ambiguous: index into tapes_
         double lambda = 0;              ///< Ambiguous: local Lipschitz bound
     };
-    /// A leaf met by the ray, with the parameter segment it covers.
-    struct Segment {
-        std::uint32_t node;
-        double t0, t1;
-    };
-
     void build();
-    /// The ambiguous leaves met by the ray on [t0, t1], in order of entry.
-    void walk(const Ray& ray, double t0, double t1, std::vector<Segment>& out) const;
 
     const expr::Tape& tape_;
     std::array<Interval, 3> bounds_;
@@ -93,5 +106,12 @@ class Octree {
 
 /// The parameter interval where o + t·d lies in `box`, rounded outward; empty if it misses.
 Interval ray_box(const Ray& ray, const std::array<Interval, 3>& box);
+
+/// The box widened by 2⁻²⁰ of its size on every side (rounded outward): where a leaf's pruned
+/// tape and λ are valid, so that points a few ulps outside the cell stay covered.
+std::array<Interval, 3> inflate(const std::array<Interval, 3>& box);
+
+/// True when every point o + t·d, t in [t0, t1], provably lies in `box`.
+bool segment_inside(const Ray& ray, double t0, double t1, const std::array<Interval, 3>& box);
 
 }  // namespace certray::tracers
