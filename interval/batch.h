@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <utility>
 
 #include "interval/number.h"
 
@@ -19,6 +20,16 @@ namespace certray {
 
 /// Number of lanes of a Batch.
 inline constexpr int kBatch = 64;
+
+/// The result of a lane-by-lane operation, not yet stored: an Eigen expression that assigning to
+/// a Batch evaluates straight into its lanes. The evaluator's `r[out] = r[a] + r[b]` thus writes
+/// each lane once, with no 512-byte temporary and copy (coefficient-wise operations are safe
+/// when `out` is also an operand). Converts to a Batch wherever a value is needed. Holds
+/// references to its operands: store it in a Batch, never in `auto`.
+template <class E>
+struct BatchExpr {
+    E e;
+};
 
 /// kBatch doubles; each operation acts lane by lane. A small value type with a public array.
 struct Batch {
@@ -34,6 +45,17 @@ struct Batch {
     /// The lanes of an Eigen array expression, evaluated straight into v (no temporary array).
     template <class E>
     explicit Batch(const Eigen::ArrayBase<E>& e) : v(e) {}
+    /// The lanes of a pending operation (implicit: a BatchExpr is a Batch not yet stored).
+    template <class E>
+    Batch(const BatchExpr<E>& x) : v(x.e) {}  // NOLINT: implicit on purpose
+    Batch(const Batch&) = default;
+    Batch& operator=(const Batch&) = default;
+    /// Evaluates a pending operation into these lanes.
+    template <class E>
+    Batch& operator=(const BatchExpr<E>& x) {
+        v = x.e;
+        return *this;
+    }
 
     /// Lane i.
     double operator[](int i) const { return v[i]; }
@@ -53,21 +75,28 @@ Batch lanewise(const Batch& x, F f) {
 
 }  // namespace detail
 
+namespace detail {
+template <class E>
+BatchExpr<E> lazy(E&& e) {
+    return BatchExpr<E>{std::forward<E>(e)};
+}
+}  // namespace detail
+
 /// a + b lane by lane (one rounding per lane, as in double).
-inline Batch operator+(const Batch& a, const Batch& b) { return Batch(a.v + b.v); }
+inline auto operator+(const Batch& a, const Batch& b) { return detail::lazy(a.v + b.v); }
 /// a − b lane by lane.
-inline Batch operator-(const Batch& a, const Batch& b) { return Batch(a.v - b.v); }
+inline auto operator-(const Batch& a, const Batch& b) { return detail::lazy(a.v - b.v); }
 /// a · b lane by lane.
-inline Batch operator*(const Batch& a, const Batch& b) { return Batch(a.v * b.v); }
+inline auto operator*(const Batch& a, const Batch& b) { return detail::lazy(a.v * b.v); }
 /// a / b lane by lane.
-inline Batch operator/(const Batch& a, const Batch& b) { return Batch(a.v / b.v); }
+inline auto operator/(const Batch& a, const Batch& b) { return detail::lazy(a.v / b.v); }
 /// −a lane by lane (exact: flips the sign bit).
-inline Batch operator-(const Batch& a) { return Batch(-a.v); }
+inline auto operator-(const Batch& a) { return detail::lazy(-a.v); }
 
 /// |a| lane by lane (exact).
-inline Batch abs(const Batch& a) { return Batch(a.v.abs()); }
+inline auto abs(const Batch& a) { return detail::lazy(a.v.abs()); }
 /// a² lane by lane as a · a (one rounding, like square(double)).
-inline Batch square(const Batch& a) { return Batch(a.v * a.v); }
+inline auto square(const Batch& a) { return detail::lazy(a.v * a.v); }
 /// aⁿ lane by lane by binary powering — the same product sequence as pow(double, unsigned), so the
 /// same roundings.
 inline Batch pow(Batch x, unsigned n) {
@@ -81,7 +110,7 @@ inline Batch pow(Batch x, unsigned n) {
 }
 /// √a lane by lane (IEEE correctly rounded in both the vector and the scalar instruction; NaN
 /// for a < 0).
-inline Batch sqrt(const Batch& a) { return Batch(a.v.sqrt()); }
+inline auto sqrt(const Batch& a) { return detail::lazy(a.v.sqrt()); }
 /// eᵃ lane by lane with libm's exp.
 inline Batch exp(const Batch& a) {
     return detail::lanewise(a, [](double x) { return std::exp(x); });
@@ -103,12 +132,12 @@ inline Batch cos(const Batch& a) {
 /// (a < b or a is NaN) ? a : b, as a vector compare and blend: Eigen's
 /// `min<PropagateNaN>` propagates NaN too but breaks the tie min(−0, +0) the other way
 /// (it returns a, certray::min returns b), which would change the sign of a zero result.
-inline Batch min(const Batch& a, const Batch& b) {
-    return Batch(((a.v < b.v) || a.v.isNaN()).select(a.v, b.v));
+inline auto min(const Batch& a, const Batch& b) {
+    return detail::lazy(((a.v < b.v) || a.v.isNaN()).select(a.v, b.v));
 }
 /// max lane by lane, propagating NaN: (a > b or a is NaN) ? a : b, like certray::max.
-inline Batch max(const Batch& a, const Batch& b) {
-    return Batch(((a.v > b.v) || a.v.isNaN()).select(a.v, b.v));
+inline auto max(const Batch& a, const Batch& b) {
+    return detail::lazy(((a.v > b.v) || a.v.isNaN()).select(a.v, b.v));
 }
 
 static_assert(Number<Batch>, "Batch must be usable by the expression evaluator");
