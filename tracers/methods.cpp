@@ -4,11 +4,29 @@
 #include <memory>
 #include <stdexcept>
 
+#include "solvers/analytic.h"
 #include "solvers/certified.h"
+#include "solvers/hermite.h"
 #include "tracers/octree.h"
 
 namespace certray::tracers {
 namespace {
+
+/// The analytic methods, after checking that g is piecewise polynomial along every ray.
+RayFunction make_analytic(const expr::Tape& tape, const MethodOptions& o,
+                          solvers::AnalyticOptions::Mode mode, std::string_view name) {
+    const std::string why = solvers::why_not_polynomial(tape);
+    if (!why.empty()) {
+        throw std::invalid_argument("method '" + std::string(name) +
+                                    "' does not apply to this scene: f is not piecewise "
+                                    "polynomial along rays (" +
+                                    why + "); use certified");
+    }
+    solvers::AnalyticOptions opt;
+    opt.mode = mode;
+    opt.budget = o.budget;
+    return [&tape, opt](const Ray& ray) { return solvers::analytic_first_root(tape, ray, opt); };
+}
 
 /// The bounds the octree methods subdivide: the given ones, else [−2, 2]³ (the gallery's frame).
 std::array<Interval, 3> octree_bounds(const MethodOptions& o) {
@@ -61,6 +79,29 @@ const Entry kMethods[] = {
          const double eps = o.epsilon;
          const std::uint64_t budget = o.budget;
          return [tree, eps, budget](const Ray& ray) { return tree->sphere(ray, eps, budget); };
+     }},
+    {"analytic",
+     "piecewise-polynomial scenes (algebraic, CSG and blobs of polynomials): g's coefficients "
+     "from one evaluation over polynomials in t, split where a min/max/abs branch changes "
+     "(Wyvill 1990), each piece by closed forms up to degree 4 (approximate) and Bernstein "
+     "clipping above (certified); knob: --budget",
+     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+         return make_analytic(tape, o, solvers::AnalyticOptions::Mode::ClosedForm, "analytic");
+     }},
+    {"bernstein",
+     "piecewise-polynomial scenes: every piece by Bernstein-basis isolation with Bezier "
+     "clipping (Nishita 1994) on the interval coefficients; certified; knob: --budget",
+     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+         return make_analytic(tape, o, solvers::AnalyticOptions::Mode::Bernstein, "bernstein");
+     }},
+    {"hermite",
+     "g and g' sampled at --samples + 1 points, cubic Hermite pieces solved in turn (Sherstyuk "
+     "1999); approximate (misses features thinner than the spacing); knob: --samples",
+     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+         solvers::HermiteOptions opt;
+         opt.samples = o.samples;
+         return
+             [&tape, opt](const Ray& ray) { return solvers::hermite_first_root(tape, ray, opt); };
      }},
     {"reference",
      "certified, every evaluation in 256-bit MPFR intervals: enclosures of adjacent doubles, the "
