@@ -26,27 +26,33 @@ thread_local Scratch t_scratch;
 
 }  // namespace
 
-std::array<Interval, 3> inflate(const std::array<Interval, 3>& box) {
+namespace {
+
+// The geometry below runs in UpInterval arithmetic: the callers hold a RoundingScope (one mode
+// switch per ray walk instead of two per operation).
+
+std::array<Interval, 3> inflate_up(const std::array<Interval, 3>& box) {
     std::array<Interval, 3> r;
+    const UpInterval k(std::ldexp(1.0, -20));
     for (int i = 0; i < 3; ++i) {
-        const Interval pad = Interval(width(box[i])) * Interval(std::ldexp(1.0, -20));
-        r[i] = Interval(box[i].lower()) - pad;
-        r[i] = Interval(r[i].lower(), (Interval(box[i].upper()) + pad).upper());
+        const UpInterval lo(box[i].lower()), hi(box[i].upper());
+        const UpInterval pad = (hi - lo) * k;
+        r[i] = Interval((lo - pad).lower(), (hi + pad).upper());
     }
     return r;
 }
 
-bool segment_inside(const Ray& ray, double t0, double t1, const std::array<Interval, 3>& box) {
+bool segment_inside_up(const Ray& ray, double t0, double t1, const std::array<Interval, 3>& box) {
     if (!(std::isfinite(t0) && std::isfinite(t1))) return false;
-    const Interval t(t0, t1);
+    const UpInterval t(t0, t1);
     for (int i = 0; i < 3; ++i) {
-        const Interval p = Interval(ray.o[i]) + t * Interval(ray.d[i]);
+        const UpInterval p = UpInterval(ray.o[i]) + t * UpInterval(ray.d[i]);
         if (!(p.lower() >= box[i].lower() && p.upper() <= box[i].upper())) return false;
     }
     return true;
 }
 
-Interval ray_box(const Ray& ray, const std::array<Interval, 3>& box) {
+Interval ray_box_up(const Ray& ray, const std::array<Interval, 3>& box) {
     double te = -kInf, tx = kInf;
     for (int i = 0; i < 3; ++i) {
         const double o = ray.o[i], d = ray.d[i];
@@ -54,13 +60,30 @@ Interval ray_box(const Ray& ray, const std::array<Interval, 3>& box) {
             if (!(o >= box[i].lower() && o <= box[i].upper())) return Interval::empty();
             continue;
         }
-        const Interval ta = (Interval(box[i].lower()) - Interval(o)) / Interval(d);
-        const Interval tb = (Interval(box[i].upper()) - Interval(o)) / Interval(d);
+        const UpInterval ta = (UpInterval(box[i].lower()) - UpInterval(o)) / UpInterval(d);
+        const UpInterval tb = (UpInterval(box[i].upper()) - UpInterval(o)) / UpInterval(d);
         te = std::max(te, std::min(ta.lower(), tb.lower()));
         tx = std::min(tx, std::max(ta.upper(), tb.upper()));
     }
     if (!(te <= tx)) return Interval::empty();
     return Interval(te, tx);
+}
+
+}  // namespace
+
+std::array<Interval, 3> inflate(const std::array<Interval, 3>& box) {
+    RoundingScope scope;
+    return inflate_up(box);
+}
+
+bool segment_inside(const Ray& ray, double t0, double t1, const std::array<Interval, 3>& box) {
+    RoundingScope scope;
+    return segment_inside_up(ray, t0, t1, box);
+}
+
+Interval ray_box(const Ray& ray, const std::array<Interval, 3>& box) {
+    RoundingScope scope;
+    return ray_box_up(ray, box);
 }
 
 Octree::Octree(const expr::Tape& tape, const std::array<Interval, 3>& bounds,
@@ -144,6 +167,7 @@ void Octree::walk(const Ray& ray, double t0, double t1, std::vector<Segment>& ou
     out.clear();
     if (!(t0 <= t1)) return;
     Scratch& s = t_scratch;
+    RoundingScope scope;
     s.stack.clear();
     s.stack.push_back(0);
     while (!s.stack.empty()) {
@@ -151,7 +175,7 @@ void Octree::walk(const Ray& ray, double t0, double t1, std::vector<Segment>& ou
         s.stack.pop_back();
         const Node& n = nodes_[i];
         if (n.state == State::Empty || n.state == State::Full) continue;
-        const Interval seg = ray_box(ray, n.box);
+        const Interval seg = ray_box_up(ray, n.box);
         if (seg.is_empty()) continue;
         const double a = std::max(seg.lower(), t0), b = std::min(seg.upper(), t1);
         if (!(a <= b)) continue;
@@ -164,7 +188,7 @@ void Octree::walk(const Ray& ray, double t0, double t1, std::vector<Segment>& ou
         for (std::uint32_t c = 0; c < 8; ++c) {
             const Node& k = nodes_[n.first_child + c];
             if (k.state == State::Empty || k.state == State::Full) continue;
-            const Interval ks = ray_box(ray, k.box);
+            const Interval ks = ray_box_up(ray, k.box);
             if (ks.is_empty() || ks.upper() < t0 || ks.lower() > t1) continue;
             s.children.push_back({ks.lower(), n.first_child + c});
         }
