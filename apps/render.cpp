@@ -13,6 +13,7 @@
 #include "expr/input_error.h"
 #include "expr/load.h"
 #include "expr/parser.h"
+#include "expr/scene_import.h"
 #include "expr/tape.h"
 #include "tracers/camera.h"
 #include "tracers/image2d.h"
@@ -57,6 +58,19 @@ SceneSpec load_json_scene(const std::string& path) {
         fail(path, std::string("not valid JSON: ") + e.what());
     }
     if (!j.is_object()) fail(path, "a scene must be a JSON object");
+    if (!j.contains("scene")) {
+        // Not a render scene: a Lipschitz-Pruning CSG tree (expr/scene_import.h), framed by its
+        // own bounds when it gives them.
+        const expr::CsgScene csg = expr::import_csg_json_file(path);
+        SceneSpec s;
+        s.graph = csg.graph;
+        if (csg.has_bounds) {
+            Box3 box;
+            for (int a = 0; a < 3; ++a) box[a] = {csg.bounds_min[a], csg.bounds_max[a]};
+            s.bounds = box;
+        }
+        return s;
+    }
     static const char* kKeys[] = {"scene", "bounds", "camera", "light", "method", "size"};
     for (const auto& [key, value] : j.items()) {
         if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys)) {
@@ -65,7 +79,7 @@ SceneSpec load_json_scene(const std::string& path) {
         }
     }
     if (!j.contains("scene") || !j["scene"].is_string()) {
-        fail(path, "\"scene\" (a path to an .expr or .vm file) is required");
+        fail(path, "\"scene\" (a path to an .expr, .vm, .txt or .json file) is required");
     }
     SceneSpec s;
     const fs::path scene = fs::path(path).parent_path() / j["scene"].get<std::string>();

@@ -1,13 +1,20 @@
 // tracers/methods.cpp — the registry of methods (see methods.h).
 #include "tracers/methods.h"
 
+#include <algorithm>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
+#include "expr/derived.h"
 #include "solvers/analytic.h"
 #include "solvers/certified.h"
 #include "solvers/hermite.h"
+#include "tracers/approx.h"
+#include "tracers/march.h"
 #include "tracers/octree.h"
+#include "tracers/segment_trace.h"
+#include "tracers/sphere_trace.h"
 
 namespace certray::tracers {
 namespace {
@@ -26,6 +33,62 @@ RayFunction make_analytic(const expr::Tape& tape, const MethodOptions& o,
     opt.mode = mode;
     opt.budget = o.budget;
     return [&tape, opt](const Ray& ray) { return solvers::analytic_first_root(tape, ray, opt); };
+}
+
+TraceOptions trace_options(const MethodOptions& o) {
+    TraceOptions t;
+    t.epsilon = o.epsilon;
+    t.step = o.step;
+    t.kappa = o.kappa;
+    t.budget = o.budget;
+    return t;
+}
+
+/// The ray clipped to the bounds, if any: false when it misses them (the scene is inside).
+bool clip(const MethodOptions& o, Ray& ray) {
+    if (!o.bounds) return true;
+    const Interval in = ray_box(ray, *o.bounds);
+    if (in.is_empty()) return false;
+    ray.tmin = std::max(ray.tmin, in.lower());
+    ray.tmax = std::min(ray.tmax, in.upper());
+    return ray.tmin <= ray.tmax;
+}
+
+using Tracer = RayResult (*)(const expr::Tape&, const Ray&, double, const TraceOptions&);
+
+/// Sphere tracing with a proven global λ: over the bounds (computed once; rays clipped to them),
+/// or else over each ray's own segment box (one gradient evaluation per ray, counted).
+RayFunction make_lipschitz_tracer(const expr::Tape& tape, const MethodOptions& o, Tracer trace) {
+    const TraceOptions topt = trace_options(o);
+    const double global =
+        o.bounds ? global_lipschitz(tape, *o.bounds) : std::numeric_limits<double>::quiet_NaN();
+    return [&tape, o, topt, global, trace](const Ray& r) {
+        Ray ray = r;
+        RayResult miss;
+        miss.status = Status::Miss;
+        if (!clip(o, ray)) return miss;
+        double lambda = global;
+        std::uint64_t extra = 0;
+        if (!o.bounds) {
+            std::array<double, 3> p, q;
+            for (int i = 0; i < 3; ++i) {
+                p[i] = ray.o[i] + ray.tmin * ray.d[i];
+                q[i] = ray.o[i] + ray.tmax * ray.d[i];
+            }
+            // The segment's box, widened by the rounding of its corners.
+            std::array<Interval, 3> box;
+            for (int i = 0; i < 3; ++i) {
+                const Interval c =
+                    Interval(ray.o[i]) + Interval(ray.tmin, ray.tmax) * Interval(ray.d[i]);
+                box[i] = c.is_empty() ? Interval(std::min(p[i], q[i]), std::max(p[i], q[i])) : c;
+            }
+            lambda = expr::lipschitz_bound(tape, box);
+            extra = 1;
+        }
+        RayResult res = trace(tape, ray, lambda, topt);
+        res.evals.gradient += extra;
+        return res;
+    };
 }
 
 /// The bounds the octree methods subdivide: the given ones, else [−2, 2]³ (the gallery's frame).
@@ -59,6 +122,47 @@ const Entry kMethods[] = {
          opt.affine = true;
          return
              [&tape, opt](const Ray& ray) { return solvers::certified_first_root(tape, ray, opt); };
+     }},
+    {"march",
+     "ray marching with a fixed step (Perlin 1989), a sign change refined to --epsilon; "
+     "approximate (skips features thinner than the step); knobs: --step, --epsilon, --budget, "
+     "--bounds",
+     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+         const TraceOptions topt = trace_options(o);
+         return [&tape, o, topt](const Ray& r) {
+             Ray ray = r;
+             RayResult miss;
+             miss.status = Status::Miss;
+             if (!clip(o, ray)) return miss;
+             return march(tape, ray, topt);
+         };
+     }},
+    {"sphere",
+     "sphere tracing (Hart 1996) with a proven global Lipschitz bound from the DAG (over "
+     "--bounds, else over each ray's segment); never steps past the first root; knobs: "
+     "--epsilon, --budget, --bounds",
+     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+         return make_lipschitz_tracer(tape, o, &sphere_trace);
+     }},
+    {"enhanced",
+     "enhanced sphere tracing (Keinert 2014): over-relaxed steps (1 + kappa)|f|/lambda with the "
+     "step-back rule, same guarantee; knobs: --kappa, --epsilon, --budget, --bounds",
+     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+         return make_lipschitz_tracer(tape, o, &enhanced_trace);
+     }},
+    {"segment",
+     "segment tracing (Galin 2020) with local bounds of |grad f . d| over each segment from the "
+     "DAG's interval derivatives; never steps past the first root; knobs: --epsilon, --budget, "
+     "--bounds",
+     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+         const TraceOptions topt = trace_options(o);
+         return [&tape, o, topt](const Ray& r) {
+             Ray ray = r;
+             RayResult miss;
+             miss.status = Status::Miss;
+             if (!clip(o, ray)) return miss;
+             return segment_trace(tape, ray, topt);
+         };
      }},
     {"certified-octree",
      "certified, accelerated by an octree over the bounds (default [-2,2]^3, depth 5): empty and "
@@ -102,6 +206,25 @@ const Entry kMethods[] = {
          opt.samples = o.samples;
          return
              [&tape, opt](const Ray& ray) { return solvers::hermite_first_root(tape, ray, opt); };
+     }},
+    {"approx",
+     "certified, per-cell Taylor models (a degree 1-3 polynomial with a proven remainder) on the "
+     "ambiguous cells of an octree over the bounds (default [-2,2]^3, depth 5): parts of a cell's "
+     "segment excluded by the model, the rest finished by the certified solver on the pruned "
+     "tape; the ray outside the bounds with the full tape; certified; knobs: --budget, --bounds",
+     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+         auto approx = std::make_shared<const Approx>(tape, octree_bounds(o));
+         solvers::CertifiedOptions opt;
+         opt.budget = o.budget;
+         return [approx, opt](const Ray& ray) { return approx->certified(ray, opt); };
+     }},
+    {"approx-plain",
+     "the per-cell polynomial models of approx without their remainder, solved in closed form "
+     "(cubic) on each ambiguous cell's segment; the scene is taken as empty outside the bounds; "
+     "approximate (may miss or invent roots); knob: --bounds",
+     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+         auto approx = std::make_shared<const Approx>(tape, octree_bounds(o));
+         return [approx](const Ray& ray) { return approx->plain(ray); };
      }},
     {"reference",
      "certified, every evaluation in 256-bit MPFR intervals: enclosures of adjacent doubles, the "

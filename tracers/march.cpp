@@ -1,0 +1,137 @@
+// tracers/march.cpp — fixed-step ray marching with bisection, and the shared rigorous helpers.
+#include "tracers/march.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "expr/eval.h"
+
+namespace certray::tracers {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+}  // namespace
+
+namespace detail {
+
+Interval g_at(const expr::Tape& tape, const Ray& ray, double t) {
+    thread_local expr::Evaluator<Interval> eval;
+    std::array<Interval, 3> p;
+    const Interval tt(t);
+    for (int i = 0; i < 3; ++i) p[i] = Interval(ray.o[i]) + tt * Interval(ray.d[i]);
+    return eval(tape, p);
+}
+
+double mignitude(const Interval& v) {
+    if (v.is_empty()) return kNaN;
+    if (v.lower() > 0) return v.lower();
+    if (v.upper() < 0) return -v.upper();
+    return 0.0;
+}
+
+double norm_up(const std::array<double, 3>& d) {
+    Interval s(0.0);
+    for (double x : d) s = s + square(Interval(x));
+    return sqrt(s).upper();
+}
+
+double div_down(double a, double b) {
+    if (b == 0) return a > 0 ? kInf : 0.0;
+    return (Interval(a) / Interval(b)).lower();
+}
+
+double add_down(double a, double b) { return (Interval(a) + Interval(b)).lower(); }
+
+double add_up(double a, double b) { return (Interval(a) + Interval(b)).upper(); }
+
+RayResult degenerate(const expr::Tape& tape, const Ray& ray) {
+    RayResult r;
+    const Interval v = g_at(tape, ray, ray.tmin);
+    r.evals.interval = 1;
+    if (!v.is_empty() && v.defined && v.lower() == 0 && v.upper() == 0) {
+        r.status = Status::Hit;
+        r.t_lo = r.t_hi = r.t = ray.tmin;
+    } else if (!v.is_empty() && v.defined && !possibly_zero(v)) {
+        r.status = Status::Miss;
+    } else {
+        r.status = Status::Unknown;
+        r.t_lo = ray.tmin;
+        r.t_hi = ray.tmax;
+        r.t = ray.tmin;
+    }
+    return r;
+}
+
+}  // namespace detail
+
+RayResult march(const expr::Tape& tape, const Ray& ray, const TraceOptions& options) {
+    thread_local expr::Evaluator<double> eval;
+    RayResult r;
+    const double dn = detail::norm_up(ray.d);
+    if (dn == 0 || ray.tmin == ray.tmax) return detail::degenerate(tape, ray);
+    auto g = [&](double t) {
+        ++r.evals.value;
+        return eval(tape,
+                    {ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1], ray.o[2] + t * ray.d[2]});
+    };
+    auto unknown = [&](double lo) {
+        r.status = Status::Unknown;
+        r.t_lo = r.t = lo;
+        r.t_hi = ray.tmax;
+        return r;
+    };
+    const double h = options.step / dn;  // the step in t
+    const double eps_t = options.epsilon / dn;
+    if (!(h > 0)) return unknown(ray.tmin);
+    double t0 = ray.tmin;
+    double g0 = g(t0);
+    std::uint64_t i = 0;
+    while (true) {
+        if (std::isnan(g0)) return unknown(t0);
+        if (g0 == 0) {
+            r.status = Status::Hit;
+            r.t_lo = r.t_hi = r.t = t0;
+            return r;
+        }
+        if (t0 >= ray.tmax) break;
+        if (r.evals.total() >= options.budget) return unknown(t0);
+        ++i;
+        // t_i from the start (no drift from repeated additions).
+        const double t1 = std::min(ray.tmin + static_cast<double>(i) * h, ray.tmax);
+        const double g1 = g(t1);
+        if (std::isnan(g1)) return unknown(t0);
+        if (g1 != 0 && (g0 < 0) != (g1 < 0)) {
+            // Bisect [t0, t1] until narrower than epsilon (or the budget ends: report the bracket).
+            double lo = t0, hi = t1, glo = g0;
+            while (hi - lo > eps_t && r.evals.total() < options.budget) {
+                const double mid = lo + 0.5 * (hi - lo);
+                if (mid <= lo || mid >= hi) break;
+                const double gm = g(mid);
+                if (std::isnan(gm)) return unknown(lo);
+                if (gm == 0) {
+                    lo = hi = mid;
+                    break;
+                }
+                if ((gm < 0) == (glo < 0)) {
+                    lo = mid;
+                    glo = gm;
+                } else {
+                    hi = mid;
+                }
+            }
+            r.status = Status::Hit;
+            r.t_lo = lo;
+            r.t_hi = hi;
+            r.t = lo + 0.5 * (hi - lo);
+            return r;
+        }
+        t0 = t1;
+        g0 = g1;
+    }
+    r.status = Status::Miss;
+    return r;
+}
+
+}  // namespace certray::tracers

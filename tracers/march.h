@@ -1,0 +1,65 @@
+// tracers/march.h — ray marching (Perlin & Hoffert 1989) and the pieces every classical tracer
+// shares: TraceOptions and the rigorous point/step helpers.
+//
+// Contract of march(): samples g(t) = f(o + t·d) at a fixed spacing of `step` scene units from
+// tmin; at an exact zero it reports Hit at that t; at a sign change between two samples it
+// bisects the bracket until it is narrower than `epsilon` scene units and reports Hit with the
+// bracket [t_lo, t_hi] (t its midpoint). Miss when tmax is reached with no sign change; Unknown
+// when g is NaN / undefined at a sample or the budget of evaluations is spent. An approximate
+// method: a root pair closer than `step` is skipped (a thin shell is missed). Each sample is one
+// double evaluation (counted in evals.value). Reference: docs/theory/sphere_tracing.md.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "expr/tape.h"
+#include "interval/interval.h"
+#include "solvers/ray.h"
+
+namespace certray::tracers {
+
+/// The knobs of the classical tracers (a subset of MethodOptions).
+struct TraceOptions {
+    /// Convergence distance (scene units): a tracer reports a hit when |f|/λ < epsilon.
+    double epsilon = 1e-6;
+    /// Fixed step of ray marching (scene units).
+    double step = 1e-2;
+    /// Over-relaxation of enhanced sphere tracing: steps of (1 + kappa)·|f|/λ.
+    double kappa = 0.2;
+    /// Most whole-tape evaluations (any kind) per ray; then the answer is Unknown.
+    std::uint64_t budget = 20000;
+};
+
+/// Ray marching with a fixed step and bisection of the first sign change (see the file contract).
+RayResult march(const expr::Tape& tape, const Ray& ray, const TraceOptions& options);
+
+namespace detail {
+
+/// An enclosure of g(t) = f(o + t·d) at the exact real parameter t (the point o + t·d is enclosed
+/// by interval arithmetic, so rounding of the point cannot hide a smaller |g|). Per-thread
+/// evaluator: no allocation once warm.
+Interval g_at(const expr::Tape& tape, const Ray& ray, double t);
+
+/// min{|x| : x ∈ v}, the mignitude (0 if v contains 0); NaN if v is empty.
+double mignitude(const Interval& v);
+
+/// An upper bound on ‖d‖₂ (rounded upward).
+double norm_up(const std::array<double, 3>& d);
+
+/// The largest double ≤ a / b for a ≥ 0, b > 0 (+inf when b is 0 and a > 0).
+double div_down(double a, double b);
+
+/// The largest double ≤ a + b.
+double add_down(double a, double b);
+
+/// The smallest double ≥ a + b.
+double add_up(double a, double b);
+
+/// The answer for a degenerate ray (zero direction or tmin = tmax, g constant): Hit at tmin if
+/// g is exactly 0, Miss if g is certainly nonzero, Unknown otherwise. One interval evaluation.
+RayResult degenerate(const expr::Tape& tape, const Ray& ray);
+
+}  // namespace detail
+
+}  // namespace certray::tracers

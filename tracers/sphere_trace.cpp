@@ -1,0 +1,107 @@
+// tracers/sphere_trace.cpp — plain and over-relaxed sphere tracing, one loop (see the header).
+//
+// Invariant: at the top of the loop, g has no root on [tmin, t); `t_prev`, `r_prev` describe the
+// last point whose free radius has been verified, and a pending over-relaxed step is checked
+// (r_prev + r ≥ t − t_prev) before anything is concluded at t.
+#include "tracers/sphere_trace.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "expr/derived.h"
+
+namespace certray::tracers {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const TraceOptions& opt,
+                double kappa) {
+    RayResult r;
+    auto unknown = [&](double lo) {
+        r.status = Status::Unknown;
+        r.t_lo = r.t = lo;
+        r.t_hi = ray.tmax;
+        return r;
+    };
+    if (std::isnan(lambda) || lambda < 0 || lambda == kInf) return unknown(ray.tmin);
+    const double dn = detail::norm_up(ray.d);
+    if (dn == 0 || ray.tmin == ray.tmax) return detail::degenerate(tape, ray);
+    // λ along the ray, per unit of t: λ‖d‖ rounded up.
+    const double lam_t = (Interval(lambda) * Interval(dn)).upper();
+    const double omega = 1.0 + std::max(0.0, kappa);
+    bool relaxed = omega > 1.0;
+
+    double t = ray.tmin;
+    double t_prev = t, r_prev = 0;
+    bool pending = false;  // the step into t was over-relaxed and is not yet verified
+    while (true) {
+        if (r.evals.total() >= opt.budget) return unknown(pending ? t_prev : t);
+        const Interval v = detail::g_at(tape, ray, t);
+        ++r.evals.interval;
+        if (v.is_empty() || !v.defined) {
+            if (!pending) return unknown(t);
+            t = detail::add_down(t_prev, r_prev);  // retreat: take the plain step instead
+            relaxed = pending = false;
+            continue;
+        }
+        const double m = detail::mignitude(v);
+        const double rad = lam_t == 0 ? (m > 0 ? kInf : 0.0) : detail::div_down(m, lam_t);
+        if (pending) {
+            pending = false;
+            const double gap = (Interval(t) - Interval(t_prev)).upper();
+            if (detail::add_down(r_prev, rad) < gap) {
+                // Keinert: the spheres do not overlap; go back and step plainly from here on.
+                t = detail::add_down(t_prev, r_prev);
+                relaxed = false;
+                continue;
+            }
+        }
+        // No root on [tmin, t); |g(t)|/λ is a free radius around t.
+        if (m == 0 || (lambda > 0 && m / lambda < opt.epsilon)) {
+            r.status = Status::Hit;
+            r.t_lo = r.t_hi = r.t = t;
+            return r;
+        }
+        if (t >= ray.tmax) break;  // g(tmax) ≠ 0 and [tmin, tmax) is free
+        const double plain = detail::add_down(t, rad);
+        if (plain > ray.tmax) break;
+        double next = plain;
+        if (relaxed) {
+            const double far = detail::add_down(t, (Interval(omega) * Interval(rad)).lower());
+            if (far > plain) {
+                next = std::min(far, ray.tmax);
+                pending = next > plain;
+            }
+        }
+        if (!(next > t)) {
+            // The step vanished below the spacing of doubles: cannot make progress.
+            return unknown(t);
+        }
+        t_prev = t;
+        r_prev = rad;
+        t = next;
+    }
+    r.status = Status::Miss;
+    return r;
+}
+
+}  // namespace
+
+double global_lipschitz(const expr::Tape& tape, const std::array<Interval, 3>& bounds) {
+    return expr::lipschitz_bound(tape, bounds);
+}
+
+RayResult sphere_trace(const expr::Tape& tape, const Ray& ray, double lambda,
+                       const TraceOptions& options) {
+    return trace(tape, ray, lambda, options, 0.0);
+}
+
+RayResult enhanced_trace(const expr::Tape& tape, const Ray& ray, double lambda,
+                         const TraceOptions& options) {
+    return trace(tape, ray, lambda, options, options.kappa);
+}
+
+}  // namespace certray::tracers

@@ -1,0 +1,41 @@
+// tracers/sphere_trace.h — sphere tracing (Hart 1996) and enhanced sphere tracing (Keinert et al.
+// 2014) with a Lipschitz bound λ, made rigorous: neither ever steps past the first root.
+//
+// Contract: λ must bound the Lipschitz constant of f (‖∇f‖₂) on a region containing the traced
+// segment [o + tmin·d, o + tmax·d] (the caller clips the ray to the region where λ holds, e.g.
+// the scene bounds given to global_lipschitz). At each point, g(t) is enclosed by interval
+// arithmetic at the exact real t, and the step |g|/(λ‖d‖) is rounded down, as is t + step: so
+// every t visited is ≤ the first root of g on [tmin, tmax].
+// Answers: Hit at t (t_lo = t_hi = t) when |f|/λ < epsilon there (an approximate hit: the surface
+// is within epsilon of the point, a root is not proven); Miss when a step passes tmax (proven: no
+// root on [tmin, tmax] given λ); Unknown when the budget is spent (notably for tmax = +inf with
+// no surface ahead: the tracer never proves a miss to infinity), when g is undefined at a point,
+// or when λ is NaN, negative or infinite. Each step costs one interval evaluation (evals.interval).
+// Enhanced: steps of (1 + kappa)·|g|/λ; when the unbounding spheres of the old and the new point
+// do not overlap (r_old + r_new < step length) it goes back and takes the plain step, and stays
+// plain for the rest of the ray (Keinert's rule), so the guarantee is kept.
+// Reference: docs/theory/sphere_tracing.md.
+#pragma once
+
+#include <array>
+
+#include "expr/tape.h"
+#include "interval/interval.h"
+#include "solvers/ray.h"
+#include "tracers/march.h"
+
+namespace certray::tracers {
+
+/// A sound bound on the Lipschitz constant of f over `bounds` (expr::lipschitz_bound): +inf when
+/// f is not proven defined and continuous on the box.
+double global_lipschitz(const expr::Tape& tape, const std::array<Interval, 3>& bounds);
+
+/// Sphere tracing with the Lipschitz bound `lambda` (see the file contract).
+RayResult sphere_trace(const expr::Tape& tape, const Ray& ray, double lambda,
+                       const TraceOptions& options);
+
+/// Enhanced (over-relaxed) sphere tracing with `lambda` and options.kappa (see the contract).
+RayResult enhanced_trace(const expr::Tape& tape, const Ray& ray, double lambda,
+                         const TraceOptions& options);
+
+}  // namespace certray::tracers
