@@ -114,8 +114,9 @@ TEST_P(Analytic, DegenerateRays) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Modes, Analytic, ::testing::Values(Mode::ClosedForm, Mode::Bernstein),
-                         [](const auto& info) {
-                             return info.param == Mode::ClosedForm ? "ClosedForm" : "Bernstein";
+                         [](const auto& param_info) {
+                             return param_info.param == Mode::ClosedForm ? "ClosedForm"
+                                                                         : "Bernstein";
                          });
 
 TEST(AnalyticScope, WhyNotPolynomialNamesTheOperation) {
