@@ -195,6 +195,24 @@ RayResult analytic_first_root(const expr::Tape& tape, const Ray& ray,
         result.t_lo = piece.t_lo;
         result.t_hi = piece.t_hi;
         result.t = piece.t;
+        // A proven enclosure from the coefficients is only as narrow as their enclosures allow
+        // (1e-7 on the Barth sextic, where the coefficients cancel): the certified solver on the
+        // tape itself, restricted to it, narrows it to ulps. Its first zero there is g's first.
+        if (piece.status == Status::Hit && piece.t_lo < piece.t_hi &&
+            piece.t_hi - piece.t_lo > 8 * std::numeric_limits<double>::epsilon() *
+                                          std::max(std::fabs(piece.t_lo), std::fabs(piece.t_hi)) &&
+            result.evals.total() < options.budget) {
+            CertifiedOptions co;
+            co.budget = options.budget - result.evals.total();
+            const RayResult c =
+                certified_first_root(tape, Ray{ray.o, ray.d, piece.t_lo, piece.t_hi}, co);
+            result.evals += c.evals;
+            if (c.status == Status::Hit) {
+                result.t_lo = c.t_lo;
+                result.t_hi = c.t_hi;
+                result.t = c.t;
+            }
+        }
         return result;
     }
     result.status = Status::Miss;
