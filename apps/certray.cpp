@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/bench.h"
 #include "apps/inspect.h"
 #include "apps/query.h"
 #include "apps/render.h"
@@ -136,6 +137,46 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     // ---- end render --------------------------------------------------------------------------
 
+    // ---- bench: `certray bench` (apps/bench.h) ----------------------------------------------
+    certray::apps::BenchOptions bench;
+    bool bench_no_peers = false, bench_no_plots = false, bench_progress = false,
+         bench_no_progress = false;
+    CLI::App* cmd_bench = app.add_subcommand(
+        "bench",
+        "The error-against-run-time study: every method over its knob sweep on the gallery and "
+        "the stress suite, timed per ray and judged against the MPFR reference; writes "
+        "measurements.csv, summary.csv, PNG plots and report.md (docs/theory/bench.md)");
+    cmd_bench->add_option("-o,--out", bench.out_dir, "Output directory")->capture_default_str();
+    cmd_bench->add_option("--report", bench.report,
+                          "Also write the markdown report here (e.g. docs/report.md)");
+    cmd_bench->add_flag("--quick", bench.quick,
+                        "CI mode: 3 scenes, 32 rays, 2 knob values, no peers (seconds)");
+    cmd_bench
+        ->add_option("--scenes-dir", bench.scenes_dir,
+                     "Gallery directory: its 3D .expr/.vm scenes, rays.csv, stress/cases.csv")
+        ->capture_default_str();
+    cmd_bench->add_option("--scene", bench.scenes, "Scene files instead of the gallery's");
+    cmd_bench->add_option("--rays", bench.rays, "RAYS.csv (default SCENES_DIR/rays.csv)");
+    cmd_bench->add_option("--stress", bench.stress,
+                          "Stress cases.csv (default SCENES_DIR/stress/cases.csv; none: skip)");
+    cmd_bench->add_option("--models", bench.models_dir, "Peer models (segment-tracing/...)")
+        ->capture_default_str();
+    cmd_bench->add_option("--methods", bench.methods, "Methods to run (default: all)")
+        ->delimiter(',');
+    cmd_bench->add_option("--max-rays", bench.max_rays, "Use N evenly spaced rays (0: all)");
+    cmd_bench->add_option("--threads", bench.threads, "Worker threads (0: one per hardware thread)")
+        ->capture_default_str();
+    cmd_bench->add_option("--repeats", bench.repeats, "Timings per ray; the fastest is kept")
+        ->capture_default_str()
+        ->check(CLI::Range(1u, 1000u));
+    cmd_bench->add_flag("--no-peers", bench_no_peers, "Skip the peer benchmarks");
+    cmd_bench->add_flag("--no-plots", bench_no_plots, "Do not run scripts/bench_plot.py");
+    cmd_bench->add_option("--plot-script", bench.plot_script, "The plotting script")
+        ->capture_default_str();
+    cmd_bench->add_flag("--progress", bench_progress, "Progress bar even when not a terminal");
+    cmd_bench->add_flag("--no-progress", bench_no_progress, "No progress bar");
+    // ---- end bench ---------------------------------------------------------------------------
+
     CLI11_PARSE(app, argc, argv);
     try {
         if (cmd_inspect->parsed()) {
@@ -157,6 +198,12 @@ int main(int argc, char** argv) {
                 query.knobs.bounds = std::array<certray::Interval, 3>{b, b, b};
             }
             return certray::apps::run_query(query);
+        }
+        if (cmd_bench->parsed()) {
+            bench.peers = !bench_no_peers;
+            bench.plots = !bench_no_plots;
+            bench.progress = bench_no_progress ? 0 : (bench_progress ? 1 : -1);
+            return certray::apps::run_bench(bench);
         }
         if (cmd_render->parsed()) return certray::apps::run_render(render, std::cout);
     } catch (const certray::InputError& e) {
