@@ -6,11 +6,14 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "expr/eval.h"
 #include "expr/parser.h"
 #include "expr/tape.h"
+#include "interval/mpfr_interval.h"
 #include "solvers/certified.h"
 #include "tests/support/random_dag.h"
 
@@ -89,6 +92,39 @@ TEST(Octree, SphereTracingWithLocalConstants) {
     ASSERT_EQ(r.status, Status::Hit);
     EXPECT_LE(r.t, 1.75);  // never past the root 3 − 1.25
     EXPECT_NEAR(r.t, 1.75, 1e-8);
+}
+
+// Every cell the octree marks empty (f > 0) or full (f < 0) keeps that sign at random points,
+// in MPFR; every ambiguous leaf's pruned tape equals the full tape at random points of its cell
+// (bit for bit in double: pruning drops only branches that lose and folds exact constants).
+RC_GTEST_PROP(OctreeProperty, CellsAreClassifiedSoundlyAndPrunedTapesAgree, ()) {
+    const Tape t(*testing::gen_dag(10));
+    const Octree tree(t, kCube, {3, 4096});
+    int checked = 0;
+    for (std::uint32_t n = 0; n < tree.node_count() && checked < 40; ++n) {
+        const Octree::State st = tree.state(n);
+        if (st == Octree::State::Branch) continue;
+        if (*rc::gen::inRange(0, 4) != 0) continue;  // a sample of the cells
+        ++checked;
+        const std::array<Interval, 3>& box = tree.box(n);
+        std::array<double, 3> p;
+        for (int i = 0; i < 3; ++i) {
+            const double u = *rc::gen::inRange(0, 1001) / 1000.0;
+            p[i] = box[i].lower() + u * (box[i].upper() - box[i].lower());
+            p[i] = std::clamp(p[i], box[i].lower(), box[i].upper());
+        }
+        if (st == Octree::State::Ambiguous) {
+            const double full = expr::eval<double>(t, p);
+            const double pruned = expr::eval<double>(tree.leaf_tape(n), p);
+            RC_ASSERT((std::isnan(full) && std::isnan(pruned)) || full == pruned);
+            continue;
+        }
+        const MpfrInterval v = expr::eval<MpfrInterval>(
+            t, {MpfrInterval(p[0]), MpfrInterval(p[1]), MpfrInterval(p[2])});
+        if (v.is_empty()) continue;  // f undefined there: no root either
+        if (st == Octree::State::Empty) RC_ASSERT(v.lower() > 0);
+        if (st == Octree::State::Full) RC_ASSERT(v.upper() < 0);
+    }
 }
 
 Ray random_ray() {
