@@ -148,6 +148,13 @@ class Solver {
     Interval newton(const Interval& t, const D1& gt, bool& unique);
     /// Sign of g at the point t when certain: −1, +1, 0 for an exact zero, 2 when unknown.
     int sign_at(double t);
+    /// The same for an enclosure of g at a point.
+    static int sign_of(const Interval& v);
+    /// g defined at the point and 0 in its enclosure there, which is not the exact zero [0, 0].
+    static bool undecided_defined(const Interval& v) {
+        return !v.is_empty() && v.defined && v.lower() <= 0 && v.upper() >= 0 &&
+               !(v.lower() == 0 && v.upper() == 0);
+    }
     RayResult finish(Status status, double lo, double hi);
 
     const expr::Tape& tape_;
@@ -160,7 +167,11 @@ class Solver {
 template <class E>
 int Solver<E>::sign_at(double t) {
     if (!std::isfinite(t)) return 2;
-    const Interval v = g(Interval(t));
+    return sign_of(g(Interval(t)));
+}
+
+template <class E>
+int Solver<E>::sign_of(const Interval& v) {
     if (v.is_empty() || !v.defined) return 2;
     if (v.lower() > 0) return 1;
     if (v.upper() < 0) return -1;
@@ -344,16 +355,26 @@ RayResult Solver<E>::solve() {
         const bool leaf = !splittable(a, b) || narrow(a, b);
         // A sign change over T where g is defined and continuous (or an exact zero at an end)
         // proves a zero in T.
+        bool zone = false;
         if (std::isfinite(a) && std::isfinite(b)) {
-            const int sa = sign_at(a);
-            const int sb = sign_at(b);
+            const Interval va = g(Interval(a));
+            const Interval vb = g(Interval(b));
+            const int sa = sign_of(va);
+            const int sb = sign_of(vb);
             if (sa == 0) return answer(a, a);
             if (sb == 0 || (gd.a.defined && sa != 2 && sb != 2 && sa != sb)) {
                 if (leaf) return answer(a, b);
                 prove(a, b);
             }
+            // g defined with 0 inside its rounding error at both ends and at the midpoint: T lies
+            // in a zone (a tangency, a root blurred by cancellation) where no point evaluation
+            // decides a sign, so no proof is to be had by bisecting it, only ever more candidates
+            // (up to width/ulp of them). It is one candidate.
+            if (!leaf && sa == 2 && sb == 2 && undecided_defined(va) && undecided_defined(vb)) {
+                zone = undecided_defined(g(Interval(midpoint(contracted))));
+            }
         }
-        if (leaf) {
+        if (leaf || zone) {
             unresolved(contracted);  // neither excluded nor proven: a candidate
             continue;
         }

@@ -206,14 +206,25 @@ RayResult Octree::certified(const Ray& ray, const solvers::CertifiedOptions& opt
     bool found = false;
     double best_lo = kInf;
     // One piece of [tmin, tmax] with the tape valid on it; returns false when the budget is out.
+    // Merges an answer for [a, …] that starts before the best so far: an earlier proven zero
+    // replaces it; an earlier *possible* zero in front of a proven one gives a hit enclosing both
+    // (a zero is proven in [best_lo, t_hi], and nothing is possible before lo).
+    auto merge = [&](Status status, double lo, double hi) {
+        if (found && result.status == Status::Hit && status == Status::Unknown) {
+            result.t_lo = lo;  // Hit [lo, t_hi]
+        } else {
+            result.status = status;
+            result.t_lo = lo;
+            result.t_hi = hi;
+        }
+        found = true;
+        best_lo = lo;
+    };
     auto piece = [&](const expr::Tape& tape, double a, double b) {
         if (found && !(a < best_lo)) return true;
         const double hi = found ? std::min(b, best_lo) : b;
-        if (result.evals.total() >= options.budget) {
-            result.status = Status::Unknown;
-            result.t_lo = a;
-            result.t_hi = ray.tmax;
-            result.t = a;
+        if (result.evals.total() >= options.budget) {  // [a, …) unexamined
+            merge(Status::Unknown, a, ray.tmax);
             return false;
         }
         solvers::CertifiedOptions o = options;
@@ -221,20 +232,30 @@ RayResult Octree::certified(const Ray& ray, const solvers::CertifiedOptions& opt
         const RayResult r = solvers::certified_first_root(tape, Ray{ray.o, ray.d, a, hi}, o);
         result.evals += r.evals;
         if (r.status == Status::Miss) return true;
-        if (!found || r.t_lo < best_lo) {
-            found = true;
-            best_lo = r.t_lo;
-            result.status = r.status;
-            result.t_lo = r.t_lo;
-            result.t_hi = r.t_hi;
-            result.t = r.t;
-        }
-        return r.status == Status::Hit || result.evals.total() < options.budget;
+        if (!found || r.t_lo < best_lo) merge(r.status, r.t_lo, r.t_hi);
+        return result.evals.total() < options.budget;
     };
     auto finish = [&]() {
         if (result.status == Status::Miss) {
             result.t_lo = result.t_hi = result.t = std::numeric_limits<double>::quiet_NaN();
+            return result;
         }
+        // A hit widened by a merge: the full tape, restricted to it, narrows it again (its first
+        // zero there is the first zero of the ray: nothing is possible before t_lo).
+        if (result.status == Status::Hit && result.t_lo < result.t_hi &&
+            result.evals.total() < options.budget) {
+            solvers::CertifiedOptions o = options;
+            o.budget = options.budget - result.evals.total();
+            const RayResult r = solvers::certified_first_root(
+                tape_, Ray{ray.o, ray.d, result.t_lo, result.t_hi}, o);
+            result.evals += r.evals;
+            if (r.status == Status::Hit) {
+                result.t_lo = r.t_lo;
+                result.t_hi = r.t_hi;
+            }
+        }
+        result.t =
+            std::isfinite(result.t_hi) ? midpoint(Interval(result.t_lo, result.t_hi)) : result.t_lo;
         return result;
     };
     const Interval in = ray_box(ray, bounds_);

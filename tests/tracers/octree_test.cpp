@@ -85,6 +85,22 @@ TEST(Octree, CertifiedRootsMathematicsGives) {
     EXPECT_GE(r.t_hi, 4.0);
 }
 
+TEST(Octree, CertifiedProvesTwoCloseRootsOnACellFace) {
+    // x² + y² + z² = 1 along y = 1 − 2⁻⁴⁰, z = 0 (a cell face: the ray is in two cells), roots
+    // 3 ∓ √(1 − (1 − 2⁻⁴⁰)²) ≈ 3 ∓ 1.3e-6 on either side of the face x = 0. The plain solver
+    // proves the first; the octree must too (its overlapping segments once turned the proof into
+    // an unknown), within the budget.
+    const Tape s = tape_of("x^2 + y^2 + z^2 - 1");
+    const Octree tree(s, kCube, {5, 1u << 20});
+    const RayResult r =
+        tree.certified(Ray{{-3, 1 - std::ldexp(1.0, -40), 0}, {1, 0, 0}, 0, 10}, {});
+    ASSERT_EQ(r.status, Status::Hit);
+    const double root_lo = 0x1.7ffff4afb0cccp+1, root_hi = 0x1.7ffff4afb0ccdp+1;  // mpmath
+    EXPECT_LE(r.t_lo, root_lo);
+    EXPECT_GE(r.t_hi, root_hi);
+    EXPECT_LT(r.evals.total(), 20000u);
+}
+
 TEST(Octree, SphereTracingWithLocalConstants) {
     const Tape s = tape_of("q = sqrt(x^2 + y^2) - 1\nsqrt(q^2 + z^2) - 0.25");
     const Octree tree(s, kCube, {5, 1u << 20});
