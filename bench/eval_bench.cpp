@@ -9,9 +9,9 @@
 //     and compiled with the same flags (not for prospero);
 // (b) `interval/<scene>`, `dual/<scene>`, `idual/<scene>`: Evaluator<Interval> on boxes of side
 //     2e-3, Evaluator<Dual<double,3>> at points, Evaluator<Dual<Interval,3>> on the boxes;
-// (c) after the benchmarks, outside Google Benchmark: prune() on boxes of decreasing side around a
-//     point of the surface, with the tape lengths and the CPU time of one interval evaluation of
-//     the full and the pruned tape.
+// (c) after the benchmarks, outside Google Benchmark (skipped with --no_prune): prune() on boxes of
+//     decreasing side around a point of the surface, with the tape lengths and the CPU time of one
+//     interval evaluation of the full and the pruned tape.
 // The custom main prints the tables (CPU time; ratios from times of this process).
 // Results and the command that produced them: docs/benchmarks.md, "Expression evaluation (issue
 // 3)".
@@ -477,6 +477,16 @@ void print_prune_table() {
 
 int main(int argc, char** argv) {
     using namespace certray;
+    // --no_prune (ours, removed before Google Benchmark sees the arguments): skip table (c).
+    bool prune_table = true;
+    for (int i = 1; i < argc; ++i) {
+        if (std::string(argv[i]) == "--no_prune") {
+            prune_table = false;
+            for (int j = i; j + 1 < argc; ++j) argv[j] = argv[j + 1];
+            --argc;
+            --i;
+        }
+    }
     make_scenes();
     for (const Scene& s : g_scenes) {
         const Scene* p = &s;
@@ -498,7 +508,7 @@ int main(int argc, char** argv) {
     TableReporter reporter;
     benchmark::RunSpecifiedBenchmarks(&reporter);
     reporter.print_tables();
-    print_prune_table();
+    if (prune_table) print_prune_table();
     benchmark::Shutdown();
     return 0;
 }

@@ -7,18 +7,33 @@
 // The decoration `defined` says more: the function is defined and continuous on the *whole* input
 // box. A certified root finder may trust a sign change only where it holds.
 //
-// Rounding: Boost's `rounded_arith_opp` (everything in upward mode, lower bounds by negation),
-// forced through memory by Boost so the compiler cannot reuse a round-to-nearest result.
-// `Interval` saves, sets and restores the mode around every operation; inside a `RoundingScope`,
-// `UpInterval` skips that and costs a few doubles (docs/theory/interval.md, docs/benchmarks.md).
-// exp, log, sin, cos: glibc ignores the rounding mode, so the round-to-nearest result is widened
-// outward by kTranscUlps ulps (glibc documents ≤ 1 ulp for these on x86_64), with exact values at
-// the points where the function value is exactly representable.
+// Rounding: everything is computed in upward mode, lower bounds by negation (RD(x ∘ y) =
+// −RU((−x) ∘ y), Boost's `rounded_arith_opp`). `Interval` sets the mode around every operation and
+// restores the caller's; inside a `RoundingScope`, `UpInterval` skips that and costs a few doubles
+// (docs/theory/interval.md, docs/benchmarks.md). Every rounded operation reads its operands through
+// an empty `asm volatile` register barrier and writes its result through another (`opaque`, as
+// CGAL's IA_opacify): the compiler can neither fold it, nor reuse a value computed under another
+// mode, nor move it across a mode switch (volatile asms keep their order) — where Boost forces each
+// result through a `volatile` memory store. On x86-64 the mode is switched by writing MXCSR and the
+// x87 control word directly (what glibc's fesetround does, without the libm call).
+// + − × square sqrt abs min max are branch-free on the common path (one predictable test sends
+// infinities, NaN and empty operands to Boost's case tables: the same bounds, bit for bit, up to
+// the sign of a zero bound); ÷, pow, exp, log, sin, cos are Boost's. exp, log, sin, cos: glibc
+// ignores the rounding mode, so the round-to-nearest result is widened outward by kTranscUlps ulps
+// (glibc documents ≤ 1 ulp for these on x86_64), with exact values at the points where the function
+// value is exactly representable.
 #pragma once
 
+#include <bit>
 #include <boost/numeric/interval.hpp>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <emmintrin.h>
+#define CERTRAY_X86_64_ROUNDING 1
+#endif
 
 namespace certray {
 
@@ -39,21 +54,110 @@ inline double step_up(double v, int n) {
     return v;
 }
 
+/// Hides x from the optimiser at this point of the program: the compiler must assume any value
+/// comes out, so an operation on the result cannot be constant-folded, merged with the same
+/// operation computed under another rounding mode, or moved before a mode switch (the barrier is
+/// an `asm volatile`, kept in order with the mode-switching asm). Costs no instruction.
+inline double opaque(double x) {
+#if defined(__GNUC__) && (defined(__x86_64__) || (defined(__i386__) && defined(__SSE2_MATH__)))
+    asm volatile("" : "+x"(x));
+#elif defined(__GNUC__) && defined(__aarch64__)
+    asm volatile("" : "+w"(x));
+#else
+    volatile double v = x;
+    x = v;
+#endif
+    return x;
+}
+
+#ifdef CERTRAY_X86_64_ROUNDING
+/// Boost rounding control for x86-64: sets the rounding fields of both the SSE unit (MXCSR) and
+/// the x87 unit, as glibc's fesetround does (fegetround reads the x87 one), by inline assembly
+/// instead of two libm calls per switch; `set` leaves a unit already in the wanted mode alone.
+/// `rounding_mode` holds both control words whole, and restoring it writes them back as they were
+/// read (MXCSR's exception flags included: flags raised in between are dropped, not reported).
+/// Results are forced to double by `opaque` instead of a volatile store.
+struct X86RoundingControl {
+    /// MXCSR and the x87 control word (rounding field: 0 nearest, 1 down, 2 up, 3 toward zero).
+    struct rounding_mode {
+        unsigned mxcsr = 0x1f80;
+        unsigned short x87 = 0x037f;
+    };
+    static rounding_mode current() {
+        rounding_mode m;
+        asm volatile("stmxcsr %0" : "=m"(m.mxcsr));
+        asm volatile("fnstcw %0" : "=m"(m.x87));
+        return m;
+    }
+    /// m with both rounding fields set to rc.
+    static rounding_mode with(rounding_mode m, unsigned rc) {
+        m.mxcsr = (m.mxcsr & ~0x6000u) | (rc << 13);
+        m.x87 = static_cast<unsigned short>((m.x87 & ~0x0c00u) | (rc << 10));
+        return m;
+    }
+    /// Writes the words of `to` that differ from `from` (the current state).
+    static void write(const rounding_mode& to, const rounding_mode& from) {
+        if (to.mxcsr != from.mxcsr) asm volatile("ldmxcsr %0" : : "m"(to.mxcsr) : "memory");
+        if (to.x87 != from.x87) asm volatile("fldcw %0" : : "m"(to.x87) : "memory");
+    }
+    static void set(unsigned rc) {
+        const rounding_mode now = current();
+        write(with(now, rc), now);
+    }
+    static void get_rounding_mode(rounding_mode& mode) { mode = current(); }
+    static void set_rounding_mode(const rounding_mode& mode) {
+        asm volatile("ldmxcsr %0" : : "m"(mode.mxcsr) : "memory");
+        asm volatile("fldcw %0" : : "m"(mode.x87) : "memory");
+    }
+    static void to_nearest() { set(0); }
+    static void downward() { set(1); }
+    static void upward() { set(2); }
+    static void toward_zero() { set(3); }
+    static double to_int(const double& r) { return std::rint(r); }
+    static double force_rounding(const double& r) { return opaque(r); }
+};
+using RoundingControl = X86RoundingControl;
+#else
+using RoundingControl = bil::rounding_control<double>;
+#endif
+
+/// RD(√x) for x ≥ 0 (or +inf) in upward mode, without switching the mode: r = RU(√x) is exact iff
+/// RU(r · r) = x (if r > √x then RU(r · r) ≥ r² > x), and otherwise RD(√x) is r's predecessor.
+inline double sqrt_rd(double x) {
+    const double r = opaque(std::sqrt(opaque(x)));
+    const bool exact = opaque(r * r) == x;
+    return exact ? r : std::bit_cast<double>(std::bit_cast<std::uint64_t>(r) - 1);
+}
+
 /// Transcendental point bounds for Boost's rounding policy: f_down(x) <= f(x) <= f_up(x).
 /// Computes in round-to-nearest and returns to upward mode, the invariant of rounded_arith_opp.
 template <class Rounding>
 struct WidenedTransc : Rounding {
+    /// f(x) in round-to-nearest; the mode before the call (upward) is restored.
     template <class F>
     double nearest(F f, double x) {
+        x = opaque(x);  // computed before the switch
+#ifdef CERTRAY_X86_64_ROUNDING
+        const X86RoundingControl::rounding_mode saved = X86RoundingControl::current();
+        X86RoundingControl::set_rounding_mode(X86RoundingControl::with(saved, 0));
+        const double r = opaque(f(x));
+        X86RoundingControl::set_rounding_mode(saved);
+#else
+        typename Rounding::rounding_mode saved;
+        this->get_rounding_mode(saved);
         this->to_nearest();
-        double r = this->force_rounding(f(x));
-        this->upward();
+        const double r = this->force_rounding(f(x));
+        this->set_rounding_mode(saved);
+#endif
         return r;
     }
     static double exp_rn(double x) { return std::exp(x); }
     static double log_rn(double x) { return std::log(x); }
     static double sin_rn(double x) { return std::sin(x); }
     static double cos_rn(double x) { return std::cos(x); }
+
+    // sqrt below without the two mode switches of rounded_arith_opp (x ≥ 0 here).
+    double sqrt_down(double x) { return sqrt_rd(x); }
 
     // exp: exact at 0 and ±inf; below by kTranscUlps ulps, clamped at 0.
     double exp_down(double x) {
@@ -101,27 +205,52 @@ struct WidenedTransc : Rounding {
     }
 };
 
-using IntervalArith = WidenedTransc<bil::rounded_arith_opp<double>>;
+using IntervalArith = WidenedTransc<bil::rounded_arith_opp<double, RoundingControl>>;
 using Checking = bil::checking_base<double>;
 
 }  // namespace detail
+
+/// Sets the rounding mode upward for its lifetime and restores the caller's mode at the end.
+/// Hoist one scope out of a loop of `UpInterval` operations; do not call libm or code that assumes
+/// round-to-nearest inside it. On x86-64 the caller's control words are written back as they were
+/// read (unconditionally: a test before the write measured slower); floating-point exception
+/// flags raised inside the scope are not kept.
+class RoundingScope {
+  public:
+#ifdef CERTRAY_X86_64_ROUNDING
+    RoundingScope() : saved_(detail::X86RoundingControl::current()) {
+        detail::X86RoundingControl::set_rounding_mode(detail::X86RoundingControl::with(saved_, 2));
+    }
+    ~RoundingScope() { detail::X86RoundingControl::set_rounding_mode(saved_); }
+#else
+    RoundingScope() = default;
+#endif
+    RoundingScope(const RoundingScope&) = delete;
+    RoundingScope& operator=(const RoundingScope&) = delete;
+
+  private:
+#ifdef CERTRAY_X86_64_ROUNDING
+    detail::X86RoundingControl::rounding_mode saved_;
+#else
+    boost::numeric::interval_lib::save_state<detail::IntervalArith> state_;
+#endif
+};
 
 /// Every operation saves, sets and restores the rounding mode: safe anywhere.
 struct ProtectedRounding {
     using Policies = boost::numeric::interval_lib::policies<
         boost::numeric::interval_lib::save_state<detail::IntervalArith>, detail::Checking>;
+    /// Held for the duration of each operation.
+    using Guard = RoundingScope;
 };
 
 /// Operations assume the mode is upward: valid only inside a live `RoundingScope`.
 struct UpwardRounding {
     using Policies = boost::numeric::interval_lib::policies<
         boost::numeric::interval_lib::save_state_nothing<detail::IntervalArith>, detail::Checking>;
+    /// Nothing to hold: the caller's scope has set the mode.
+    struct Guard {};
 };
-
-/// Sets the rounding mode upward for its lifetime and restores the caller's mode at the end.
-/// Hoist one scope out of a loop of `UpInterval` operations; do not call libm or code that assumes
-/// round-to-nearest inside it.
-using RoundingScope = boost::numeric::interval_lib::save_state<detail::IntervalArith>;
 
 /// A closed binary64 interval [lower, upper] (possibly unbounded or empty) with a decoration.
 /// `Mode` says whether its operations protect the rounding mode (see ProtectedRounding).
@@ -145,7 +274,7 @@ struct BasicInterval {
     /// Same bounds under another rounding mode.
     template <class M2>
     explicit BasicInterval(const BasicInterval<M2>& o)
-        : iv(o.lower(), o.upper()), defined(o.defined) {
+        : iv(o.lower(), o.upper(), true), defined(o.defined) {
         if (o.is_empty()) *this = empty();
     }
 
@@ -268,27 +397,144 @@ BasicInterval<M> repair(const BasicInterval<M>& r, const BasicInterval<M>& a,
     }
     return r;
 }
+
+/// Boost's operations with the repair, out of line: the rare cases (empty operands, infinite
+/// bounds) of the branch-free kernels below.
+template <class M>
+[[gnu::cold, gnu::noinline]] BasicInterval<M> boost_add(const BasicInterval<M>& a,
+                                                        const BasicInterval<M>& b) {
+    return repair(BasicInterval<M>{a.iv + b.iv, a.defined && b.defined}, a, b);
+}
+template <class M>
+[[gnu::cold, gnu::noinline]] BasicInterval<M> boost_sub(const BasicInterval<M>& a,
+                                                        const BasicInterval<M>& b) {
+    return repair(BasicInterval<M>{a.iv - b.iv, a.defined && b.defined}, a, b);
+}
+template <class M>
+[[gnu::cold, gnu::noinline]] BasicInterval<M> boost_mul(const BasicInterval<M>& a,
+                                                        const BasicInterval<M>& b) {
+    return repair(BasicInterval<M>{a.iv * b.iv, a.defined && b.defined}, a, b);
+}
+
+/// [lo, hi] with the decoration def, unchecked: the caller knows lo ≤ hi.
+template <class M>
+BasicInterval<M> from_bounds(double lo, double hi, bool def) {
+    BasicInterval<M> r;
+    r.iv = typename BasicInterval<M>::Boost(lo, hi, true);
+    r.defined = def;
+    return r;
+}
+
+// Kernels on bounds, valid in upward mode (a Guard or the caller's RoundingScope holds it). Each
+// reads its operands through `opaque` and returns results through it; a lower bound is the
+// negation of an upward-rounded result on negated operands.
+inline double max2(double a, double b) { return a > b ? a : b; }  // no NaN here
+inline double min2(double a, double b) { return a < b ? a : b; }
+
+/// [RD(alo + blo), RU(ahi + bhi)].
+inline void add_bounds(double alo, double ahi, double blo, double bhi, double& lo, double& hi) {
+    lo = -opaque(opaque(-alo) - opaque(blo));
+    hi = opaque(opaque(ahi) + opaque(bhi));
+}
+
+/// [RD(alo − bhi), RU(ahi − blo)].
+inline void sub_bounds(double alo, double ahi, double blo, double bhi, double& lo, double& hi) {
+    lo = -opaque(opaque(bhi) - opaque(alo));
+    hi = opaque(opaque(ahi) - opaque(blo));
+}
+
+/// [min RD(corner products), max RU(corner products)]; false when a product is NaN (0 · ∞ or an
+/// empty operand), which the caller sends to Boost's sign-case table. A false alarm (two products
+/// of opposite infinite sign) only costs that detour.
+inline bool mul_bounds(double alo, double ahi, double blo, double bhi, double& lo, double& hi) {
+#ifdef CERTRAY_X86_64_ROUNDING
+    // Two lanes: b = (blo, bhi); products of alo and of ahi with both, and of their negations.
+    const auto hide = [](__m128d v) {
+        asm volatile("" : "+x"(v));
+        return v;
+    };
+    const __m128d sign = _mm_set1_pd(-0.0);
+    // Scalar loads (a 16-byte load of bounds stored as two 8-byte halves would miss store
+    // forwarding).
+    const __m128d b = hide(_mm_unpacklo_pd(_mm_set_sd(opaque(blo)), _mm_set_sd(opaque(bhi))));
+    const __m128d al = hide(_mm_set1_pd(opaque(alo))), ah = hide(_mm_set1_pd(opaque(ahi)));
+    const __m128d nal = hide(_mm_xor_pd(al, sign)), nah = hide(_mm_xor_pd(ah, sign));
+    const __m128d p1 = hide(_mm_mul_pd(al, b)), p2 = hide(_mm_mul_pd(ah, b));
+    const __m128d n1 = hide(_mm_mul_pd(nal, b)), n2 = hide(_mm_mul_pd(nah, b));
+    const int nan = _mm_movemask_pd(_mm_cmpunord_pd(p1, p2));
+    const __m128d hp = _mm_max_pd(p1, p2), hn = _mm_max_pd(n1, n2);
+    // (max of negated products, max of products) = (−lo, hi).
+    const __m128d r = _mm_max_pd(_mm_unpacklo_pd(hn, hp), _mm_unpackhi_pd(hn, hp));
+    lo = -_mm_cvtsd_f64(r);
+    hi = _mm_cvtsd_f64(_mm_unpackhi_pd(r, r));
+    return nan == 0;
+#else
+    alo = opaque(alo);
+    ahi = opaque(ahi);
+    blo = opaque(blo);
+    bhi = opaque(bhi);
+    const double nalo = opaque(-alo), nahi = opaque(-ahi);
+    const double p1 = opaque(alo * blo), p2 = opaque(alo * bhi), p3 = opaque(ahi * blo),
+                 p4 = opaque(ahi * bhi);
+    const double n1 = opaque(nalo * blo), n2 = opaque(nalo * bhi), n3 = opaque(nahi * blo),
+                 n4 = opaque(nahi * bhi);
+    const double check = (p1 + p2) + (p3 + p4);
+    hi = max2(max2(p1, p2), max2(p3, p4));
+    lo = -max2(max2(n1, n2), max2(n3, n4));
+    return check == check;
+#endif
+}
+
+/// [lo, hi]² for a non-empty box: m = distance from 0 to the box, M = largest magnitude;
+/// [RD(m²), RU(M²)].
+inline void square_bounds(double xlo, double xhi, double& lo, double& hi) {
+    const double m = opaque(max2(max2(xlo, -xhi), 0.0)), big = opaque(max2(-xlo, xhi));
+    lo = -opaque(opaque(-m) * m);
+    hi = opaque(big * big);
+}
 }  // namespace detail
 
-/// [a, b] + [c, d] = [a + c rounded down, b + d rounded up].
+/// [a, b] + [c, d] = [a + c rounded down, b + d rounded up]; an empty operand gives empty,
+/// ∞ − ∞ at an infinite bound gives the whole line.
 template <class M>
-BasicInterval<M> operator+(const BasicInterval<M>& a, const BasicInterval<M>& b) {
-    return detail::repair(BasicInterval<M>{a.iv + b.iv, a.defined && b.defined}, a, b);
+[[gnu::always_inline]] inline BasicInterval<M> operator+(const BasicInterval<M>& a,
+                                                         const BasicInterval<M>& b) {
+    [[maybe_unused]] typename M::Guard guard;
+    double lo, hi;
+    detail::add_bounds(a.lower(), a.upper(), b.lower(), b.upper(), lo, hi);
+    if (lo <= hi) [[likely]]
+        return detail::from_bounds<M>(lo, hi, a.defined & b.defined);
+    return detail::boost_add(a, b);
 }
-/// [a, b] − [c, d] = [a − d rounded down, b − c rounded up].
+/// [a, b] − [c, d] = [a − d rounded down, b − c rounded up]; empty and ∞ − ∞ as for +.
 template <class M>
-BasicInterval<M> operator-(const BasicInterval<M>& a, const BasicInterval<M>& b) {
-    return detail::repair(BasicInterval<M>{a.iv - b.iv, a.defined && b.defined}, a, b);
+[[gnu::always_inline]] inline BasicInterval<M> operator-(const BasicInterval<M>& a,
+                                                         const BasicInterval<M>& b) {
+    [[maybe_unused]] typename M::Guard guard;
+    double lo, hi;
+    detail::sub_bounds(a.lower(), a.upper(), b.lower(), b.upper(), lo, hi);
+    if (lo <= hi) [[likely]]
+        return detail::from_bounds<M>(lo, hi, a.defined & b.defined);
+    return detail::boost_sub(a, b);
 }
 /// −[a, b] = [−b, −a] (exact).
 template <class M>
-BasicInterval<M> operator-(const BasicInterval<M>& a) {
-    return {-a.iv, a.defined};
+[[gnu::always_inline]] inline BasicInterval<M> operator-(const BasicInterval<M>& a) {
+    if (a.is_empty()) [[unlikely]]
+        return BasicInterval<M>::empty();
+    return detail::from_bounds<M>(-a.upper(), -a.lower(), a.defined);
 }
-/// Product by Boost's sign-case table (9 cases), each bound rounded outward; 0 · ∞ counts as 0.
+/// Product: the least and greatest of the four corner products, rounded outward (the bounds of
+/// Boost's 9-case sign table, without its branches). When a corner is 0 · ∞ or an operand is
+/// empty: Boost's table, where 0 · ∞ counts as 0.
 template <class M>
-BasicInterval<M> operator*(const BasicInterval<M>& a, const BasicInterval<M>& b) {
-    return detail::repair(BasicInterval<M>{a.iv * b.iv, a.defined && b.defined}, a, b);
+[[gnu::always_inline]] inline BasicInterval<M> operator*(const BasicInterval<M>& a,
+                                                         const BasicInterval<M>& b) {
+    [[maybe_unused]] typename M::Guard guard;
+    double lo, hi;
+    if (detail::mul_bounds(a.lower(), a.upper(), b.lower(), b.upper(), lo, hi)) [[likely]]
+        return detail::from_bounds<M>(lo, hi, a.defined & b.defined);
+    return detail::boost_mul(a, b);
 }
 
 /// Set-based quotient {x / y : x ∈ a, y ∈ b, y ≠ 0}:
@@ -379,15 +625,26 @@ BasicInterval<M>& operator/=(BasicInterval<M>& a, const BasicInterval<M>& b) {
 
 // ---- elementary functions ----------------------------------------------------------------------
 
-/// |[a, b]|: [a, b] if a ≥ 0; [−b, −a] if b ≤ 0; [0, max(−a, b)] otherwise. Exact.
+/// |[a, b]|: [a, b] if a ≥ 0; [−b, −a] if b ≤ 0; [0, max(−a, b)] otherwise. Exact: the lower
+/// bound is max(a, −b, 0), the upper max(−a, b).
 template <class M>
-BasicInterval<M> abs(const BasicInterval<M>& x) {
-    return {boost::numeric::abs(x.iv), x.defined};
+[[gnu::always_inline]] inline BasicInterval<M> abs(const BasicInterval<M>& x) {
+    const double l = x.lower(), u = x.upper();
+    if (!(l <= u)) [[unlikely]]
+        return BasicInterval<M>::empty();
+    return detail::from_bounds<M>(detail::max2(detail::max2(l, -u), 0.0), detail::max2(-l, u),
+                                  x.defined);
 }
 /// [a, b]²: [a², b²] if a ≥ 0; [b², a²] if b ≤ 0; [0, max(a², b²)] otherwise; rounded outward.
 template <class M>
-BasicInterval<M> square(const BasicInterval<M>& x) {
-    return {boost::numeric::square(x.iv), x.defined};
+[[gnu::always_inline]] inline BasicInterval<M> square(const BasicInterval<M>& x) {
+    const double l = x.lower(), u = x.upper();
+    if (!(l <= u)) [[unlikely]]
+        return BasicInterval<M>::empty();
+    [[maybe_unused]] typename M::Guard guard;
+    double lo, hi;
+    detail::square_bounds(l, u, lo, hi);
+    return detail::from_bounds<M>(lo, hi, x.defined);
 }
 /// xⁿ for a non-negative integer n: x⁰ = [1, 1]; even n as square, odd n monotone.
 template <class M>
@@ -399,8 +656,14 @@ BasicInterval<M> pow(const BasicInterval<M>& x, unsigned n) {
 }
 /// √ on [a, b] ∩ [0, ∞): [√max(a,0) down, √b up]; empty if b < 0; defined only if a ≥ 0.
 template <class M>
-BasicInterval<M> sqrt(const BasicInterval<M>& x) {
-    return {boost::numeric::sqrt(x.iv), x.defined && x.lower() >= 0};
+[[gnu::always_inline]] inline BasicInterval<M> sqrt(const BasicInterval<M>& x) {
+    const double l = x.lower(), u = x.upper();
+    if (!(l <= u) || u < 0) [[unlikely]]
+        return BasicInterval<M>::empty();
+    [[maybe_unused]] typename M::Guard guard;
+    const double lo = l > 0 ? detail::sqrt_rd(l) : 0.0;
+    const double hi = detail::opaque(std::sqrt(detail::opaque(u)));
+    return detail::from_bounds<M>(lo, hi, x.defined && l >= 0);
 }
 /// exp is increasing: [exp_down(a), exp_up(b)].
 template <class M>
@@ -432,13 +695,21 @@ BasicInterval<M> sin(const BasicInterval<M>& x) {
 }
 /// min([a, b], [c, d]) = [min(a, c), min(b, d)]. Exact.
 template <class M>
-BasicInterval<M> min(const BasicInterval<M>& a, const BasicInterval<M>& b) {
-    return {boost::numeric::min(a.iv, b.iv), a.defined && b.defined};
+[[gnu::always_inline]] inline BasicInterval<M> min(const BasicInterval<M>& a,
+                                                   const BasicInterval<M>& b) {
+    if (!(a.lower() <= a.upper()) || !(b.lower() <= b.upper())) [[unlikely]]
+        return BasicInterval<M>::empty();
+    return detail::from_bounds<M>(detail::min2(a.lower(), b.lower()),
+                                  detail::min2(a.upper(), b.upper()), a.defined & b.defined);
 }
 /// max([a, b], [c, d]) = [max(a, c), max(b, d)]. Exact.
 template <class M>
-BasicInterval<M> max(const BasicInterval<M>& a, const BasicInterval<M>& b) {
-    return {boost::numeric::max(a.iv, b.iv), a.defined && b.defined};
+[[gnu::always_inline]] inline BasicInterval<M> max(const BasicInterval<M>& a,
+                                                   const BasicInterval<M>& b) {
+    if (!(a.lower() <= a.upper()) || !(b.lower() <= b.upper())) [[unlikely]]
+        return BasicInterval<M>::empty();
+    return detail::from_bounds<M>(detail::max2(a.lower(), b.lower()),
+                                  detail::max2(a.upper(), b.upper()), a.defined & b.defined);
 }
 
 }  // namespace certray

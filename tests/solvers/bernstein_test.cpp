@@ -43,9 +43,6 @@ bool in(const Rational& r, double lo, double hi) {
 bool le(double x, const Rational& r) {
     return certainly_le(Interval(x) * Interval(r.q), Interval(r.p));
 }
-bool lt(const Rational& r, double x) {
-    return certainly_lt(Interval(r.p), Interval(x) * Interval(r.q));
-}
 
 TEST(Bernstein, CubicFirstRoot) {
     const auto c = poly({{1, 4}, {1, 2}, {3, 4}});
@@ -73,7 +70,9 @@ TEST(Bernstein, DoubleRootNeverMiss) {
         const auto c = poly({x, x});
         const RayResult r = first_root_bernstein(c, 0, 1);
         ASSERT_NE(r.status, Status::Miss);
-        if (r.status == Status::Hit) EXPECT_TRUE(in(x, r.t_lo, r.t_hi));
+        if (r.status == Status::Hit) {
+            EXPECT_TRUE(in(x, r.t_lo, r.t_hi));
+        }
         EXPECT_TRUE(le(r.t_lo, x));
     }
 }
@@ -94,7 +93,9 @@ TEST(Bernstein, ClusteredDegree10) {
     const RayResult r = first_root_bernstein(c, 0, 1);
     ASSERT_NE(r.status, Status::Miss);
     EXPECT_TRUE(le(r.t_lo, roots[0]));
-    if (r.status == Status::Hit) EXPECT_TRUE(in(roots[0], r.t_lo, r.t_hi));
+    if (r.status == Status::Hit) {
+        EXPECT_TRUE(in(roots[0], r.t_lo, r.t_hi));
+    }
     std::printf("clustered degree 10: %s [%.17g, %.17g]\n", std::string(name(r.status)).c_str(),
                 r.t_lo, r.t_hi);
 }
