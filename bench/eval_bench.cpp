@@ -153,9 +153,10 @@ bool read_molecule(const std::string& path, Spheres& out) {
             for (int k : {0, 1, 2, 4, 5, 6, 8, 9, 10}) {
                 if (m[k].get<double>() != ((k % 5 == 0) ? 1.0 : 0.0)) return false;
             }
-            out.cx.push_back(m[3].get<double>());
-            out.cy.push_back(m[7].get<double>());
-            out.cz.push_back(m[11].get<double>());
+            // The matrix maps world to primitive space: the centre is minus its translation.
+            out.cx.push_back(-m[3].get<double>());
+            out.cy.push_back(-m[7].get<double>());
+            out.cz.push_back(-m[11].get<double>());
             out.r.push_back(n.at("radius").get<double>());
         }
     }
