@@ -209,9 +209,11 @@ RayResult Octree::certified(const Ray& ray, const solvers::CertifiedOptions& opt
     // Merges an answer for [a, …] that starts before the best so far: an earlier proven zero
     // replaces it; an earlier *possible* zero in front of a proven one gives a hit enclosing both
     // (a zero is proven in [best_lo, t_hi], and nothing is possible before lo).
+    bool widened = false;
     auto merge = [&](Status status, double lo, double hi) {
         if (found && result.status == Status::Hit && status == Status::Unknown) {
             result.t_lo = lo;  // Hit [lo, t_hi]
+            widened = true;
         } else {
             result.status = status;
             result.t_lo = lo;
@@ -242,8 +244,7 @@ RayResult Octree::certified(const Ray& ray, const solvers::CertifiedOptions& opt
         }
         // A hit widened by a merge: the full tape, restricted to it, narrows it again (its first
         // zero there is the first zero of the ray: nothing is possible before t_lo).
-        if (result.status == Status::Hit && result.t_lo < result.t_hi &&
-            result.evals.total() < options.budget) {
+        if (widened && result.status == Status::Hit && result.evals.total() < options.budget) {
             solvers::CertifiedOptions o = options;
             o.budget = options.budget - result.evals.total();
             const RayResult r = solvers::certified_first_root(
