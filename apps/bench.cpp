@@ -273,12 +273,23 @@ std::vector<Config> make_configs(const BenchOptions& o, bool stress) {
             sweep("budget", {30, 100, 1000, 20000}, [](tracers::MethodOptions& p, double v) {
                 p.budget = static_cast<std::uint64_t>(v);
             });
+            if (m == "certified-octree" && !o.quick) {
+                sweep("depth", {3, 7},
+                      [](tracers::MethodOptions& p, double v) { p.depth = static_cast<int>(v); });
+            }
+        } else if (m == "approx" || m == "approx-plain") {
+            sweep("depth", o.quick ? std::vector<double>{5} : std::vector<double>{3, 5, 7},
+                  [](tracers::MethodOptions& p, double v) { p.depth = static_cast<int>(v); });
         } else if (m == "march") {
             sweep("step", {0.1, 0.03, 0.01, 0.003},
                   [](tracers::MethodOptions& p, double v) { p.step = v; });
         } else if (m == "sphere" || m == "enhanced" || m == "segment" || m == "octree") {
             sweep("epsilon", {1e-2, 1e-4, 1e-6, 1e-9},
                   [](tracers::MethodOptions& p, double v) { p.epsilon = v; });
+            if (m == "octree" && !o.quick) {
+                sweep("depth", {3, 7},
+                      [](tracers::MethodOptions& p, double v) { p.depth = static_cast<int>(v); });
+            }
             if (m == "enhanced") {
                 sweep("kappa", o.quick ? std::vector<double>{0.5} : std::vector<double>{0.2, 0.5},
                       [](tracers::MethodOptions& p, double v) { p.kappa = v; });
@@ -292,10 +303,12 @@ std::vector<Config> make_configs(const BenchOptions& o, bool stress) {
         }
     }
     for (Config& c : out) {
-        c.is_default = c.knob == "default" ||
-                       (c.knob == "budget" && c.value == static_cast<double>(def.budget)) ||
-                       (c.knob == "epsilon" && c.value == def.epsilon) ||
-                       (c.knob == "step" && c.value == def.step);
+        c.is_default =
+            c.knob == "default" ||
+            (c.knob == "budget" && c.value == static_cast<double>(def.budget)) ||
+            (c.knob == "epsilon" && c.value == def.epsilon) ||
+            (c.knob == "step" && c.value == def.step) ||
+            (c.knob == "depth" && c.value == def.depth && c.method.starts_with("approx"));
         if (c.knob == "samples" && c.value == 128) c.is_default = true;  // closest to 64
         c.tol_epsilon =
             c.method == "march" ? std::max(c.opts.epsilon, c.opts.step) : c.opts.epsilon;

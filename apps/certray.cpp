@@ -86,6 +86,11 @@ int main(int argc, char** argv) {
     cmd_query->add_option("--samples", query.knobs.samples, "Samples along the ray (hermite)")
         ->capture_default_str()
         ->check(CLI::Range(1u, 1000000u));
+    cmd_query
+        ->add_option("--depth", query.knobs.depth,
+                     "Octree depth of certified-octree, octree, approx, approx-plain")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 10));
     std::vector<double> query_bounds;
     cmd_query
         ->add_option("--bounds", query_bounds,

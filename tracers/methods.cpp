@@ -97,6 +97,12 @@ std::array<Interval, 3> octree_bounds(const MethodOptions& o) {
     return {Interval(-2, 2), Interval(-2, 2), Interval(-2, 2)};
 }
 
+ApproxOptions approx_options(const MethodOptions& o) {
+    ApproxOptions a;
+    a.octree.max_depth = o.depth;
+    return a;
+}
+
 struct Entry {
     std::string_view name;
     std::string_view summary;
@@ -165,21 +171,23 @@ const Entry kMethods[] = {
          };
      }},
     {"certified-octree",
-     "certified, accelerated by an octree over the bounds (default [-2,2]^3, depth 5): empty and "
+     "certified, accelerated by an octree over the bounds (default [-2,2]^3, --depth 5): empty and "
      "full cells skipped, each ambiguous cell solved with its pruned tape; the ray outside the "
-     "bounds with the full tape; certified; knobs: --budget, --bounds",
+     "bounds with the full tape; certified; knobs: --budget, --bounds, --depth",
      [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         auto tree = std::make_shared<const Octree>(tape, octree_bounds(o));
+         auto tree = std::make_shared<const Octree>(tape, octree_bounds(o),
+                                                    OctreeOptions{o.depth, std::size_t{1} << 20});
          solvers::CertifiedOptions opt;
          opt.budget = o.budget;
          return [tree, opt](const Ray& ray) { return tree->certified(ray, opt); };
      }},
     {"octree",
      "sphere tracing with the local Lipschitz bound of each octree cell (Hart 1996) inside the "
-     "bounds (default [-2,2]^3, depth 5; the scene is taken as empty outside them); approximate, "
-     "never steps past a root inside the bounds; knobs: --epsilon, --budget, --bounds",
+     "bounds (default [-2,2]^3, --depth 5; the scene is taken as empty outside them); approximate, "
+     "never steps past a root inside the bounds; knobs: --epsilon, --budget, --bounds, --depth",
      [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         auto tree = std::make_shared<const Octree>(tape, octree_bounds(o));
+         auto tree = std::make_shared<const Octree>(tape, octree_bounds(o),
+                                                    OctreeOptions{o.depth, std::size_t{1} << 20});
          const double eps = o.epsilon;
          const std::uint64_t budget = o.budget;
          return [tree, eps, budget](const Ray& ray) { return tree->sphere(ray, eps, budget); };
@@ -209,11 +217,13 @@ const Entry kMethods[] = {
      }},
     {"approx",
      "certified, per-cell Taylor models (a degree 1-3 polynomial with a proven remainder) on the "
-     "ambiguous cells of an octree over the bounds (default [-2,2]^3, depth 5): parts of a cell's "
+     "ambiguous cells of an octree over the bounds (default [-2,2]^3, --depth 5): parts of a "
+     "cell's "
      "segment excluded by the model, the rest finished by the certified solver on the pruned "
-     "tape; the ray outside the bounds with the full tape; certified; knobs: --budget, --bounds",
+     "tape; the ray outside the bounds with the full tape; certified; knobs: --budget, --bounds, "
+     "--depth",
      [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         auto approx = std::make_shared<const Approx>(tape, octree_bounds(o));
+         auto approx = std::make_shared<const Approx>(tape, octree_bounds(o), approx_options(o));
          solvers::CertifiedOptions opt;
          opt.budget = o.budget;
          return [approx, opt](const Ray& ray) { return approx->certified(ray, opt); };
@@ -221,9 +231,9 @@ const Entry kMethods[] = {
     {"approx-plain",
      "the per-cell polynomial models of approx without their remainder, solved in closed form "
      "(cubic) on each ambiguous cell's segment; the scene is taken as empty outside the bounds; "
-     "approximate (may miss or invent roots); knob: --bounds",
+     "approximate (may miss or invent roots); knobs: --bounds, --depth",
      [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         auto approx = std::make_shared<const Approx>(tape, octree_bounds(o));
+         auto approx = std::make_shared<const Approx>(tape, octree_bounds(o), approx_options(o));
          return [approx](const Ray& ray) { return approx->plain(ray); };
      }},
     {"reference",

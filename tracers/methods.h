@@ -35,6 +35,8 @@ struct MethodOptions {
     double kappa = 0.2;
     /// Samples along the ray of the Hermite method.
     unsigned samples = 64;
+    /// Subdivision depth of the octree methods (certified-octree, octree, approx, approx-plain).
+    int depth = 5;
     /// The scene bounds: where global constants are computed and outside which tracers stop.
     /// Unset: each ray's own segment [o + tmin·d, o + tmax·d] bounds it.
     std::optional<std::array<Interval, 3>> bounds;
