@@ -54,6 +54,28 @@ bool clip(const MethodOptions& o, Ray& ray) {
     return ray.tmin <= ray.tmax;
 }
 
+/// A tracer that needs no λ (march, segment), on each ray clipped to the bounds.
+RayFunction make_clipped_tracer(const expr::Tape& tape, const MethodOptions& o,
+                                RayResult (*trace)(const expr::Tape&, const Ray&,
+                                                   const TraceOptions&)) {
+    const TraceOptions topt = trace_options(o);
+    return [&tape, o, topt, trace](const Ray& r) {
+        Ray ray = r;
+        RayResult miss;
+        miss.status = Status::Miss;
+        if (!clip(o, ray)) return miss;
+        return trace(tape, ray, topt);
+    };
+}
+
+/// The certified solver with the options' budget (and the affine refinement if asked).
+RayFunction make_certified(const expr::Tape& tape, const MethodOptions& o, bool affine) {
+    solvers::CertifiedOptions opt;
+    opt.budget = o.budget;
+    opt.affine = affine;
+    return [&tape, opt](const Ray& ray) { return solvers::certified_first_root(tape, ray, opt); };
+}
+
 using Tracer = RayResult (*)(const expr::Tape&, const Ray&, double, const TraceOptions&);
 
 /// Sphere tracing with a proven global λ: over the bounds (computed once; rays clipped to them),
@@ -70,17 +92,10 @@ RayFunction make_lipschitz_tracer(const expr::Tape& tape, const MethodOptions& o
         double lambda = global;
         std::uint64_t extra = 0;
         if (!o.bounds) {
-            std::array<double, 3> p, q;
-            for (int i = 0; i < 3; ++i) {
-                p[i] = ray.o[i] + ray.tmin * ray.d[i];
-                q[i] = ray.o[i] + ray.tmax * ray.d[i];
-            }
-            // The segment's box, widened by the rounding of its corners.
+            // The segment's box: o + [tmin, tmax]·d in interval arithmetic (rounded outward).
             std::array<Interval, 3> box;
             for (int i = 0; i < 3; ++i) {
-                const Interval c =
-                    Interval(ray.o[i]) + Interval(ray.tmin, ray.tmax) * Interval(ray.d[i]);
-                box[i] = c.is_empty() ? Interval(std::min(p[i], q[i]), std::max(p[i], q[i])) : c;
+                box[i] = Interval(ray.o[i]) + Interval(ray.tmin, ray.tmax) * Interval(ray.d[i]);
             }
             lambda = expr::lipschitz_bound(tape, box);
             extra = 1;
@@ -113,35 +128,21 @@ const Entry kMethods[] = {
     {"certified",
      "interval bisection with interval Newton (Snyder 1992); certified; knob: --budget",
      [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         solvers::CertifiedOptions opt;
-         opt.budget = o.budget;
-         return
-             [&tape, opt](const Ray& ray) { return solvers::certified_first_root(tape, ray, opt); };
+         return make_certified(tape, o, false);
      }},
     {"certified-affine",
      "certified, where the interval enclosure of g over a parameter interval holds 0 it is "
      "intersected with the affine form of g in t (tighter on long segments; one more "
      "evaluation); certified; knob: --budget",
      [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         solvers::CertifiedOptions opt;
-         opt.budget = o.budget;
-         opt.affine = true;
-         return
-             [&tape, opt](const Ray& ray) { return solvers::certified_first_root(tape, ray, opt); };
+         return make_certified(tape, o, true);
      }},
     {"march",
      "ray marching with a fixed step (Perlin 1989), a sign change refined to --epsilon; "
      "approximate (skips features thinner than the step); knobs: --step, --epsilon, --budget, "
      "--bounds",
      [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         const TraceOptions topt = trace_options(o);
-         return [&tape, o, topt](const Ray& r) {
-             Ray ray = r;
-             RayResult miss;
-             miss.status = Status::Miss;
-             if (!clip(o, ray)) return miss;
-             return march(tape, ray, topt);
-         };
+         return make_clipped_tracer(tape, o, &march);
      }},
     {"sphere",
      "sphere tracing (Hart 1996) with a proven global Lipschitz bound from the DAG (over "
@@ -161,14 +162,7 @@ const Entry kMethods[] = {
      "DAG's interval derivatives; never steps past the first root; knobs: --epsilon, --budget, "
      "--bounds",
      [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         const TraceOptions topt = trace_options(o);
-         return [&tape, o, topt](const Ray& r) {
-             Ray ray = r;
-             RayResult miss;
-             miss.status = Status::Miss;
-             if (!clip(o, ray)) return miss;
-             return segment_trace(tape, ray, topt);
-         };
+         return make_clipped_tracer(tape, o, &segment_trace);
      }},
     {"certified-octree",
      "certified, accelerated by an octree over the bounds (default [-2,2]^3, --depth 5): empty and "

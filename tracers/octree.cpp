@@ -10,6 +10,7 @@
 #include "expr/derived.h"
 #include "expr/eval.h"
 #include "expr/prune.h"
+#include "tracers/sphere_trace.h"
 
 namespace certray::tracers {
 namespace {
@@ -20,7 +21,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 struct Scratch {
     std::vector<std::uint32_t> stack;
     std::vector<std::pair<double, std::uint32_t>> children;
-    expr::Evaluator<double> value;
 };
 thread_local Scratch t_scratch;
 
@@ -277,55 +277,40 @@ RayResult Octree::certified(const Ray& ray, const solvers::CertifiedOptions& opt
 
 RayResult Octree::sphere(const Ray& ray, double epsilon, std::uint64_t budget) const {
     thread_local std::vector<Segment> segments;
-    Scratch& s = t_scratch;
     RayResult r;
-    auto stop = [&](Status st, double lo, double hi) {
-        r.status = st;
-        if (st != Status::Miss) {
-            r.t_lo = lo;
-            r.t_hi = hi;
-            r.t = lo;
-        }
+    r.status = Status::Miss;
+    auto unknown = [&](double lo) {
+        r.status = Status::Unknown;
+        r.t_lo = r.t = lo;
+        r.t_hi = ray.tmax;
         return r;
     };
     const Interval in = ray_box(ray, bounds_);
-    if (in.is_empty()) return stop(Status::Miss, 0, 0);
-    // |d| rounded up: a distance δ along the ray is a parameter step of at least δ / |d|.
-    const double dn =
-        sqrt(square(Interval(ray.d[0])) + square(Interval(ray.d[1])) + square(Interval(ray.d[2])))
-            .upper();
-    if (dn == 0) {  // a degenerate ray: g is the constant f(o)
-        ++r.evals.value;
-        const double v = s.value(tape_, ray.o);
-        if (v == 0) return stop(Status::Hit, ray.tmin, ray.tmin);
-        return std::isnan(v) ? stop(Status::Unknown, ray.tmin, ray.tmax) : stop(Status::Miss, 0, 0);
-    }
+    if (in.is_empty()) return r;
     walk(ray, std::max(ray.tmin, in.lower()), std::min(ray.tmax, in.upper()), segments);
+    TraceOptions opt;
+    opt.epsilon = epsilon;
+    // Each ambiguous leaf's segment is sphere traced (tracers/sphere_trace.h) with the leaf's
+    // pruned tape and λ; empty and full cells are skipped.
     for (const Segment& seg : segments) {
         const Node& n = nodes_[seg.node];
-        if (!segment_inside(ray, seg.t0, seg.t1, inflate(n.box)) || !(n.lambda < kInf)) {
-            return stop(Status::Unknown, seg.t0, seg.t1);
+        if (!segment_inside(ray, seg.t0, seg.t1, inflate(n.box)) || !(n.lambda < kInf) ||
+            r.evals.total() >= budget) {
+            return unknown(seg.t0);
         }
-        const expr::Tape& tape = *tapes_[n.tape];
-        double t = seg.t0;
-        while (t <= seg.t1) {
-            if (r.evals.total() >= budget) return stop(Status::Unknown, t, ray.tmax);
-            ++r.evals.value;
-            const double v = s.value(
-                tape, {ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1], ray.o[2] + t * ray.d[2]});
-            if (std::isnan(v)) return stop(Status::Unknown, t, seg.t1);
-            if (std::fabs(v) <= epsilon * n.lambda) return stop(Status::Hit, t, t);
-            if (n.lambda == 0) break;  // f constant and nonzero on the cell
-            // A parameter step no longer than |f| / (λ |d|), the distance bound along the ray
-            // (rounded down: 1 − 2⁻⁴⁰ covers the rounding of the product and the quotient).
-            const double step = std::fabs(v) / (n.lambda * dn) * (1 - std::ldexp(1.0, -40));
-            double next = t + step;
-            if (next - t > step) next = std::nextafter(next, -kInf);
-            if (!(next > t)) return stop(Status::Hit, t, t);  // nearer than one ulp of t
-            t = next;
-        }
+        opt.budget = budget - r.evals.total();
+        const RayResult p =
+            sphere_trace(*tapes_[n.tape], Ray{ray.o, ray.d, seg.t0, seg.t1}, n.lambda, opt);
+        r.evals += p.evals;
+        if (p.status == Status::Miss) continue;
+        if (p.status == Status::Unknown) return unknown(p.t_lo);
+        r.status = Status::Hit;
+        r.t_lo = p.t_lo;
+        r.t_hi = p.t_hi;
+        r.t = p.t;
+        return r;
     }
-    return stop(Status::Miss, 0, 0);
+    return r;
 }
 
 }  // namespace certray::tracers

@@ -12,9 +12,9 @@
 //   - certified(): the certified solver (solvers/certified.h) on each ambiguous leaf's segment
 //     with its pruned tape, and on the parts of [tmin, tmax] outside the bounds with the full
 //     tape — the certification semantics of solvers/ray.h hold for the whole ray;
-//   - sphere(): sphere tracing with each leaf's local λ inside the bounds (outside them the
-//     scene is taken as empty: an approximate method that never steps past a root inside the
-//     bounds when the λ are sound).
+//   - sphere(): tracers/sphere_trace.h on each ambiguous leaf's segment with the leaf's pruned
+//     tape and local λ, inside the bounds (outside them the scene is taken as empty: an
+//     approximate method that never steps past a root inside the bounds when the λ are sound).
 // Memory is bounded by `max_nodes`; a pruned tape equal to its parent's is shared, not copied.
 // Reference: docs/theory/octree.md.
 #pragma once

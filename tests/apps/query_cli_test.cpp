@@ -13,9 +13,7 @@
 #include <string>
 #include <vector>
 
-#ifndef CERTRAY_CLI
-#error "CERTRAY_CLI must name the certray executable"
-#endif
+#include "tests/support/cli_fixture.h"
 
 namespace {
 
@@ -34,40 +32,13 @@ double parse_double(const std::string& s) {
     return v;
 }
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+using certray::testing::slurp;
 
-class QueryCli : public ::testing::Test {
+class QueryCli : public certray::testing::CliFixture {
   protected:
     void SetUp() override {
-        std::string tmpl = (fs::temp_directory_path() / "certray_query_XXXXXX").string();
-        ASSERT_NE(mkdtemp(tmpl.data()), nullptr);
-        dir_ = tmpl;
-        std::ofstream(dir_ / "sphere.expr") << "# the unit sphere\nx^2 + y^2 + z^2 - 1\n";
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-
-    fs::path path(const std::string& name) const { return dir_ / name; }
-
-    void write(const std::string& name, const std::string& text) const {
-        std::ofstream(path(name), std::ios::binary) << text;
-    }
-
-    /// Runs `certray ARGS` in the temporary directory; returns the exit code, stderr in err_.
-    int run(const std::string& args) {
-        const std::string cmd = "cd '" + dir_.string() + "' && '" CERTRAY_CLI "' " + args +
-                                " 2> '" + path("stderr.txt").string() + "'";
-        const int status = std::system(cmd.c_str());
-        err_ = slurp(path("stderr.txt"));
-        if (status == -1 || !WIFEXITED(status)) return -1;
-        return WEXITSTATUS(status);
+        CliFixture::SetUp();
+        write("sphere.expr", "# the unit sphere\nx^2 + y^2 + z^2 - 1\n");
     }
 
     std::vector<HitRow> read_hits(const std::string& name) const {
@@ -87,18 +58,18 @@ class QueryCli : public ::testing::Test {
         return rows;
     }
 
-    /// No file other than the inputs (sphere.expr, the rays, stderr.txt) is left in the directory.
+    /// No file other than the inputs (sphere.expr, the rays, stdout.txt, stderr.txt) is left in the
+    /// directory.
     std::vector<std::string> outputs_left(const std::string& rays) const {
         std::vector<std::string> left;
         for (const auto& e : fs::directory_iterator(dir_)) {
             const std::string n = e.path().filename().string();
-            if (n != "sphere.expr" && n != rays && n != "stderr.txt") left.push_back(n);
+            if (n != "sphere.expr" && n != rays && n != "stderr.txt" && n != "stdout.txt") {
+                left.push_back(n);
+            }
         }
         return left;
     }
-
-    fs::path dir_;
-    std::string err_;
 };
 
 constexpr const char* kHeader = "ox,oy,oz,dx,dy,dz,tmin,tmax\n";

@@ -10,57 +10,22 @@
 #include <sstream>
 #include <string>
 
+#include "tests/support/cli_fixture.h"
 #include "tracers/png_io.h"
-
-#ifndef CERTRAY_CLI
-#error "CERTRAY_CLI must name the certray executable"
-#endif
 
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+using certray::testing::slurp;
 
-class RenderCli : public ::testing::Test {
+class RenderCli : public certray::testing::CliFixture {
   protected:
     void SetUp() override {
-        std::string tmpl = (fs::temp_directory_path() / "certray_render_XXXXXX").string();
-        ASSERT_NE(mkdtemp(tmpl.data()), nullptr);
-        dir_ = tmpl;
+        CliFixture::SetUp();
         write("sphere.expr", "x^2 + y^2 + z^2 - 1\n");
         write("disk.expr", "x^2 + y^2 - 0.5625\n");
     }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-
-    fs::path path(const std::string& name) const { return dir_ / name; }
-    void write(const std::string& name, const std::string& text) const {
-        std::ofstream(path(name), std::ios::binary) << text;
-    }
-
-    /// Runs `certray ARGS` in the temporary directory; returns the exit code, with stdout in out_
-    /// and stderr in err_.
-    int run(const std::string& args) {
-        const std::string cmd = "cd '" + dir_.string() + "' && '" CERTRAY_CLI "' " + args + " > '" +
-                                path("stdout.txt").string() + "' 2> '" +
-                                path("stderr.txt").string() + "'";
-        const int status = std::system(cmd.c_str());
-        out_ = slurp(path("stdout.txt"));
-        err_ = slurp(path("stderr.txt"));
-        if (status == -1 || !WIFEXITED(status)) return -1;
-        return WEXITSTATUS(status);
-    }
-
-    fs::path dir_;
-    std::string out_, err_;
 };
 
 TEST_F(RenderCli, Renders3dScene) {

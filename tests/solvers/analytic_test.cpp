@@ -15,6 +15,7 @@
 
 #include "expr/parser.h"
 #include "expr/tape.h"
+#include "tests/support/generators.h"
 
 namespace certray::solvers {
 namespace {
@@ -130,16 +131,7 @@ TEST(AnalyticScope, WhyNotPolynomialNamesTheOperation) {
 // g(t) = Π (t − rᵢ) with dyadic roots rᵢ = kᵢ / 64 along x: the certified mode encloses the first
 // root in range (or says unknown, never a wrong miss); the closed forms are within 1e-9 of it.
 RC_GTEST_PROP(AnalyticProperty, PolynomialWithKnownRoots, ()) {
-    const int n = *rc::gen::inRange(1, 7);
-    std::vector<double> roots;
-    std::string text;
-    for (int i = 0; i < n; ++i) {
-        const double r = *rc::gen::inRange(-256, 256) / 64.0;
-        roots.push_back(r);
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "%s(x - %.17g)", i ? " * " : "", r);
-        text += buf;
-    }
+    const auto [text, roots] = *testing::gen_root_product(6);
     const double tmin = *rc::gen::inRange(-300, 300) / 64.0 + 1.0 / 128;  // never on a root
     const double tmax = tmin + *rc::gen::inRange(0, 400) / 64.0;
     const Tape t(expr::parse_expr(text));
@@ -157,7 +149,7 @@ RC_GTEST_PROP(AnalyticProperty, PolynomialWithKnownRoots, ()) {
     for (double r : roots) mult += r == first;
     if (first != kInf && mult == 1) RC_ASSERT(b.status == Status::Hit);
     const RayResult c = solve(t, ray, Mode::ClosedForm);
-    if (first != kInf && mult == 1 && n <= 4) {
+    if (first != kInf && mult == 1 && roots.size() <= 4) {
         RC_ASSERT(c.status == Status::Hit);
         RC_ASSERT(std::fabs(c.t - first) <= 1e-9);
     }

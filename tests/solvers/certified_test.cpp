@@ -17,6 +17,7 @@
 #include "expr/parser.h"
 #include "expr/tape.h"
 #include "interval/mpfr_interval.h"
+#include "tests/support/generators.h"
 #include "tests/support/random_dag.h"
 
 namespace certray::solvers {
@@ -213,7 +214,7 @@ TEST(CertifiedReference, UndefinedAndTangentCasesStayHonest) {
     EXPECT_NE(m.status, Status::Hit);
 }
 
-TEST(CertifiedAffine, SameRootsFewerOrEqualSteps) {
+TEST(CertifiedAffine, ProvesTheSameRootAsTheIntervalSolver) {
     // Along a long segment the affine form keeps the correlation between x, y and z.
     const Tape t = tape_of("q = sqrt(x^2 + y^2) - 1\nsqrt(q^2 + z^2) - 0.25");
     CertifiedOptions aff;
@@ -230,16 +231,7 @@ TEST(CertifiedAffine, SameRootsFewerOrEqualSteps) {
 
 // g(t) = Π (t − rᵢ) with dyadic roots rᵢ = kᵢ / 64 along the x axis: the first root is known.
 RC_GTEST_PROP(CertifiedProperty, PolynomialWithKnownRoots, ()) {
-    const int n = *rc::gen::inRange(1, 6);
-    std::vector<double> roots;
-    std::string text;
-    for (int i = 0; i < n; ++i) {
-        const double r = *rc::gen::inRange(-256, 256) / 64.0;
-        roots.push_back(r);
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "%s(x - %.17g)", i ? " * " : "", r);
-        text += buf;
-    }
+    const auto [text, roots] = *testing::gen_root_product(5);
     const double tmin = *rc::gen::inRange(-300, 300) / 64.0;
     const double tmax = tmin + *rc::gen::inRange(0, 400) / 64.0;
     const Tape t(expr::parse_expr(text));
@@ -261,13 +253,7 @@ RC_GTEST_PROP(CertifiedProperty, PolynomialWithKnownRoots, ()) {
 RC_GTEST_PROP(CertifiedProperty, NoProvenZeroBeforeTheAnswer, ()) {
     const expr::Graph g = *testing::gen_dag(16);
     const Tape t(g);
-    Ray ray;
-    for (int i = 0; i < 3; ++i) {
-        ray.o[i] = *rc::gen::inRange(-300, 300) / 100.0;
-        ray.d[i] = *rc::gen::inRange(-100, 100) / 50.0;
-    }
-    ray.tmin = 0;
-    ray.tmax = *rc::gen::inRange(1, 50) / 10.0;
+    const Ray ray = *testing::gen_ray();
     CertifiedOptions opt;
     opt.budget = 4000;
     opt.affine = *rc::gen::arbitrary<bool>();
@@ -306,13 +292,7 @@ RC_GTEST_PROP(CertifiedProperty, NoProvenZeroBeforeTheAnswer, ()) {
 RC_GTEST_PROP(CertifiedProperty, AgreesWithTheMpfrReference, ()) {
     const expr::Graph g = *testing::gen_dag(8);
     const Tape t(g);
-    Ray ray;
-    for (int i = 0; i < 3; ++i) {
-        ray.o[i] = *rc::gen::inRange(-300, 300) / 100.0;
-        ray.d[i] = *rc::gen::inRange(-100, 100) / 50.0;
-    }
-    ray.tmin = 0;
-    ray.tmax = *rc::gen::inRange(1, 50) / 10.0;
+    const Ray ray = *testing::gen_ray();
     CertifiedOptions opt;
     opt.budget = 400;
     const RayResult d = certified_first_root(t, ray, opt);

@@ -5,11 +5,7 @@
 // reference must give zero wrong answers; the certified solver must prove every simple root.
 #include <gtest/gtest.h>
 
-#include <cstdio>
-#include <cstdlib>
-#include <fstream>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -17,77 +13,23 @@
 #include "expr/tape.h"
 #include "solvers/certified.h"
 #include "solvers/ray.h"
+#include "tests/support/stress_cases.h"
 
 namespace certray::solvers {
 namespace {
 
-struct Case {
-    std::string label, scene, expect, note;
-    Ray ray;
-    double root_lo = 0, root_hi = 0;
-};
+using testing::read_stress_cases;
+using testing::stress_dir;
+using Case = testing::StressCase;
 
-std::string stress_dir() { return std::string(CERTRAY_SOURCE_DIR) + "/scenes/stress/"; }
-
-std::vector<Case> read_cases() {
-    std::ifstream in(stress_dir() + "cases.csv");
-    EXPECT_TRUE(in) << "cannot read " << stress_dir() << "cases.csv";
-    std::vector<Case> cases;
-    std::string line;
-    std::getline(in, line);  // header
-    while (std::getline(in, line)) {
-        std::vector<std::string> f;
-        std::stringstream ss(line);
-        std::string cell;
-        while (std::getline(ss, cell, ',')) f.push_back(cell);
-        if (f.size() < 13) {
-            ADD_FAILURE() << "bad line in cases.csv: " << line;
-            continue;
-        }
-        Case c;
-        c.label = f[0];
-        c.scene = f[1];
-        for (int i = 0; i < 3; ++i) {
-            c.ray.o[i] = std::strtod(f[2 + i].c_str(), nullptr);
-            c.ray.d[i] = std::strtod(f[5 + i].c_str(), nullptr);
-        }
-        c.ray.tmin = std::strtod(f[8].c_str(), nullptr);
-        c.ray.tmax = std::strtod(f[9].c_str(), nullptr);
-        c.expect = f[10];
-        c.root_lo = std::strtod(f[11].c_str(), nullptr);
-        c.root_hi = std::strtod(f[12].c_str(), nullptr);
-        cases.push_back(c);
-    }
-    return cases;
-}
-
-/// Checks one certified answer against the case; `must_prove` demands a Hit for simple roots.
 void check(const Case& c, const RayResult& r, bool must_prove) {
-    SCOPED_TRACE(c.label + " (" + c.scene + "): got " + std::string(name(r.status)) + " [" +
-                 std::to_string(r.t_lo) + ", " + std::to_string(r.t_hi) + "]");
-    if (c.expect == "hit") {
-        ASSERT_NE(r.status, Status::Miss);
-        if (must_prove) EXPECT_EQ(r.status, Status::Hit);
-        EXPECT_LE(r.t_lo, c.root_lo);
-        if (r.status == Status::Hit) EXPECT_GE(r.t_hi, c.root_hi);
-    } else if (c.expect == "miss") {
-        EXPECT_NE(r.status, Status::Hit);
-        if (must_prove) EXPECT_EQ(r.status, Status::Miss);
-    } else if (c.expect == "tangent" || c.expect == "hard") {
-        ASSERT_NE(r.status, Status::Miss);
-        EXPECT_LE(r.t_lo, c.root_lo);
-        if (r.status == Status::Hit) EXPECT_GE(r.t_hi, c.root_hi);
-    } else if (c.expect == "nohit") {
-        EXPECT_NE(r.status, Status::Hit);
-    } else {
-        ADD_FAILURE() << "unknown expectation '" << c.expect << "'";
-    }
+    testing::check_stress_case(c, r, must_prove);
 }
 
 class Stress : public ::testing::Test {
   protected:
     static void SetUpTestSuite() {
-        cases_ = new std::vector<Case>(read_cases());
+        cases_ = new std::vector<Case>(read_stress_cases());
         tapes_ = new std::map<std::string, expr::Tape>;
         for (const Case& c : *cases_) {
             if (!tapes_->count(c.scene)) {

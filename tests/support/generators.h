@@ -16,9 +16,13 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
+#include <string>
 #include <utility>
 #include <vector>
+
+#include "solvers/ray.h"
 
 namespace certray::testing {
 
@@ -201,6 +205,43 @@ inline rc::Gen<double> gen_point_in(double lo, double hi) {
     const std::size_t n = choices.size();
     return gen::mapcat(gen::inRange<std::size_t>(0, n),
                        [choices = std::move(choices)](std::size_t i) { return choices[i]; });
+}
+
+/// A ray for property tests: origin on the grid 0.01·[−300, 300]³, direction 1/`d_den`·[−100,
+/// 100]³ (possibly zero: a degenerate ray), t ∈ [0, tmax] with tmax = 0.1·[1, `tmax_tenths`].
+/// Dyadic-free decimal grids, so rays rarely sit exactly on cell faces — but sometimes do.
+inline rc::Gen<Ray> gen_ray(int d_den = 50, int tmax_tenths = 50) {
+    return rc::gen::exec([d_den, tmax_tenths] {
+        Ray ray;
+        for (int i = 0; i < 3; ++i) {
+            ray.o[i] = *rc::gen::inRange(-300, 300) / 100.0;
+            ray.d[i] = *rc::gen::inRange(-100, 100) / static_cast<double>(d_den);
+        }
+        ray.tmin = 0;
+        ray.tmax = *rc::gen::inRange(1, tmax_tenths) / 10.0;
+        return ray;
+    });
+}
+
+/// Π (x − rᵢ) as .expr text, with the roots: 1 to max_factors dyadic roots rᵢ = kᵢ/64 in [−4, 4]
+/// (exact doubles, so the polynomial's real roots are known exactly; repeats give multiple roots).
+struct RootProduct {
+    std::string text;
+    std::vector<double> roots;
+};
+inline rc::Gen<RootProduct> gen_root_product(int max_factors) {
+    return rc::gen::exec([max_factors] {
+        RootProduct p;
+        const int n = *rc::gen::inRange(1, max_factors + 1);
+        for (int i = 0; i < n; ++i) {
+            const double r = *rc::gen::inRange(-256, 256) / 64.0;
+            p.roots.push_back(r);
+            char buf[64];
+            std::snprintf(buf, sizeof buf, "%s(x - %.17g)", i ? " * " : "", r);
+            p.text += buf;
+        }
+        return p;
+    });
 }
 
 /// RAII check that no code leaks a rounding-mode change: records fegetround() on construction;

@@ -24,7 +24,9 @@
 #include "expr/tape.h"
 #include "solvers/certified.h"
 #include "solvers/ray_io.h"
+#include "tests/support/generators.h"
 #include "tests/support/random_dag.h"
+#include "tests/support/stress_cases.h"
 #include "tracers/octree.h"
 
 namespace certray::tracers {
@@ -194,61 +196,10 @@ TEST(ApproxGallery, Gyroid) { gallery_scene("gyroid.expr"); }
 
 // ---- the stress suite (format and rules of tests/solvers/stress_test.cpp) ---------------------
 
-struct Case {
-    std::string label, scene, expect;
-    Ray ray;
-    double root_lo = 0, root_hi = 0;
-};
-
-std::vector<Case> read_cases() {
-    std::ifstream in(scene("stress/cases.csv"));
-    EXPECT_TRUE(in);
-    std::vector<Case> cases;
-    std::string line;
-    std::getline(in, line);  // header
-    while (std::getline(in, line)) {
-        std::vector<std::string> f;
-        std::stringstream ss(line);
-        std::string cell;
-        while (std::getline(ss, cell, ',')) f.push_back(cell);
-        if (f.size() < 13) continue;
-        Case c;
-        c.label = f[0];
-        c.scene = f[1];
-        for (int i = 0; i < 3; ++i) {
-            c.ray.o[i] = std::strtod(f[2 + i].c_str(), nullptr);
-            c.ray.d[i] = std::strtod(f[5 + i].c_str(), nullptr);
-        }
-        c.ray.tmin = std::strtod(f[8].c_str(), nullptr);
-        c.ray.tmax = std::strtod(f[9].c_str(), nullptr);
-        c.expect = f[10];
-        c.root_lo = std::strtod(f[11].c_str(), nullptr);
-        c.root_hi = std::strtod(f[12].c_str(), nullptr);
-        cases.push_back(c);
-    }
-    return cases;
-}
-
-/// Never wrong: a hit where mathematics has one starts no later than the root and, when proven,
-/// ends no earlier; no hit where there is none.
-void check_case(const Case& c, const RayResult& r) {
-    SCOPED_TRACE(c.label + " (" + c.scene + "): got " + std::string(name(r.status)) + " [" +
-                 std::to_string(r.t_lo) + ", " + std::to_string(r.t_hi) + "]");
-    if (c.expect == "hit" || c.expect == "tangent" || c.expect == "hard") {
-        ASSERT_NE(r.status, Status::Miss);
-        EXPECT_LE(r.t_lo, c.root_lo);
-        if (r.status == Status::Hit) {
-            EXPECT_GE(r.t_hi, c.root_hi);
-        }
-    } else if (c.expect == "miss" || c.expect == "nohit") {
-        EXPECT_NE(r.status, Status::Hit);
-    } else {
-        ADD_FAILURE() << "unknown expectation '" << c.expect << "'";
-    }
-}
+using Case = testing::StressCase;
 
 TEST(ApproxStress, NeverWrong) {
-    const std::vector<Case> cases = read_cases();
+    const std::vector<Case> cases = testing::read_stress_cases();
     ASSERT_GE(cases.size(), 25u);
     std::map<std::string, std::unique_ptr<Tape>> tapes;
     std::map<std::string, std::unique_ptr<Approx>> approx;
@@ -264,7 +215,7 @@ TEST(ApproxStress, NeverWrong) {
             approx[c.scene] = std::make_unique<Approx>(*tapes[c.scene], kCube, o);
         }
         const RayResult r = approx[c.scene]->certified(c.ray, {});
-        check_case(c, r);
+        testing::check_stress_case(c, r, false);
         hits += r.status == Status::Hit;
         certified_hits +=
             solvers::certified_first_root(*tapes[c.scene], c.ray).status == Status::Hit;
@@ -286,17 +237,6 @@ TEST(ApproxStress, NeverWrong) {
 
 // ---- random DAGs ------------------------------------------------------------------------------
 
-Ray random_ray() {
-    Ray ray;
-    for (int i = 0; i < 3; ++i) {
-        ray.o[i] = *rc::gen::inRange(-300, 300) / 100.0;
-        ray.d[i] = *rc::gen::inRange(-100, 100) / 100.0;
-    }
-    ray.tmin = 0;
-    ray.tmax = *rc::gen::inRange(1, 50) / 10.0;
-    return ray;
-}
-
 RC_GTEST_PROP(ApproxProperty, CertifiedAgreesWithTheCertifiedSolver, ()) {
     const Tape t(*testing::gen_dag(12));
     const Approx approx(t, kCube, {{3, 4096}});
@@ -304,7 +244,7 @@ RC_GTEST_PROP(ApproxProperty, CertifiedAgreesWithTheCertifiedSolver, ()) {
     o.budget = 4000;
     int agree = 0;
     for (int k = 0; k < 4; ++k) {
-        const Ray ray = random_ray();
+        const Ray ray = *testing::gen_ray(100, 50);
         const RayResult a = approx.certified(ray, o);
         const RayResult b = solvers::certified_first_root(t, ray, o);
         agree += a.status == b.status;

@@ -15,6 +15,7 @@
 #include "expr/tape.h"
 #include "interval/mpfr_interval.h"
 #include "solvers/certified.h"
+#include "tests/support/generators.h"
 #include "tests/support/random_dag.h"
 
 namespace certray::tracers {
@@ -143,17 +144,6 @@ RC_GTEST_PROP(OctreeProperty, CellsAreClassifiedSoundlyAndPrunedTapesAgree, ()) 
     }
 }
 
-Ray random_ray() {
-    Ray ray;
-    for (int i = 0; i < 3; ++i) {
-        ray.o[i] = *rc::gen::inRange(-300, 300) / 100.0;
-        ray.d[i] = *rc::gen::inRange(-100, 100) / 50.0;
-    }
-    ray.tmin = 0;
-    ray.tmax = *rc::gen::inRange(1, 50) / 10.0;
-    return ray;
-}
-
 // The octree's certified answer and the plain solver's agree: overlapping hits, never a hit
 // against a miss.
 RC_GTEST_PROP(OctreeProperty, CertifiedAgreesWithThePlainSolver, ()) {
@@ -162,7 +152,7 @@ RC_GTEST_PROP(OctreeProperty, CertifiedAgreesWithThePlainSolver, ()) {
     solvers::CertifiedOptions o;
     o.budget = 4000;
     for (int k = 0; k < 4; ++k) {
-        const Ray ray = random_ray();
+        const Ray ray = *testing::gen_ray();
         const RayResult a = tree.certified(ray, o);
         const RayResult b = solvers::certified_first_root(t, ray, o);
         if (a.status == Status::Hit && b.status == Status::Hit) {
@@ -178,7 +168,7 @@ RC_GTEST_PROP(OctreeProperty, SphereTracingNeverPassesTheFirstRoot, ()) {
     const Tape t(*testing::gen_dag(12));
     const Octree tree(t, kCube, {3, 4096});
     for (int k = 0; k < 4; ++k) {
-        Ray ray = random_ray();
+        Ray ray = *testing::gen_ray();
         // Keep the ray inside the bounds, where the octree sees the scene.
         const Interval in = ray_box(ray, kCube);
         if (in.is_empty()) continue;

@@ -14,6 +14,7 @@
 #include "expr/parser.h"
 #include "expr/tape.h"
 #include "solvers/certified.h"
+#include "tests/support/generators.h"
 #include "tests/support/random_dag.h"
 #include "tracers/march.h"
 #include "tracers/segment_trace.h"
@@ -166,19 +167,6 @@ void check_against_certified(const Tape& t, const Ray& ray, const RayResult& tra
     if (traced.status == Status::Miss) RC_ASSERT(c.status != Status::Hit);
 }
 
-rc::Gen<Ray> gen_ray() {
-    return rc::gen::exec([] {
-        Ray r;
-        for (int i = 0; i < 3; ++i) {
-            r.o[i] = *rc::gen::inRange(-300, 300) / 100.0;
-            r.d[i] = *rc::gen::inRange(-100, 100) / 100.0;
-        }
-        r.tmin = 0;
-        r.tmax = *rc::gen::inRange(1, 80) / 10.0;
-        return r;
-    });
-}
-
 RC_GTEST_PROP(TracersProperty, SphereUnionsNeverPastFirstRoot, ()) {
     // min over spheres of (|p − c| − r): 1-Lipschitz everywhere, so λ = 1 is proven.
     const int n = *rc::gen::inRange(1, 5);
@@ -192,7 +180,7 @@ RC_GTEST_PROP(TracersProperty, SphereUnionsNeverPastFirstRoot, ()) {
         text = k == 0 ? s : "min(" + text + ", " + s + ")";
     }
     const Tape t = tape_of(text);
-    const Ray ray = *gen_ray();
+    const Ray ray = *testing::gen_ray(100, 80);
     TraceOptions o;
     o.budget = 2000;
     for (const RayResult& r : lipschitz_tracers(t, ray, 1.0, o)) check_against_certified(t, ray, r);
@@ -201,7 +189,7 @@ RC_GTEST_PROP(TracersProperty, SphereUnionsNeverPastFirstRoot, ()) {
 RC_GTEST_PROP(TracersProperty, RandomDagsNeverPastFirstRoot, ()) {
     const expr::Graph g = *testing::gen_dag(12);
     const Tape t(g);
-    const Ray ray = *gen_ray();
+    const Ray ray = *testing::gen_ray(100, 80);
     std::array<double, 3> p, q;
     for (int i = 0; i < 3; ++i) {
         p[i] = ray.o[i] + ray.tmin * ray.d[i];
