@@ -1,9 +1,12 @@
-// expr/derived.cpp — Lipschitz bounds from the interval gradient.
+// expr/derived.cpp — Lipschitz bounds from the interval gradient and root forms.
 #include "expr/derived.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
+
+#include "interval/grad_bound.h"
 
 namespace certray::expr {
 
@@ -50,9 +53,23 @@ double norm_bound(const std::array<Interval, 3>& grad) {
 }
 
 double lipschitz_bound(const Tape& tape, const std::array<Interval, 3>& box) {
-    const Dual<Interval, 3> d = interval_gradient(tape, box);
-    if (!d.a.defined) return std::numeric_limits<double>::infinity();
-    return norm_bound(d.v);
+    thread_local std::vector<GradBound> regs;
+    if (regs.size() < tape.registers()) regs.resize(tape.registers());
+    std::array<Interval, 3> parts;
+    double lip = 0;
+    {
+        RoundingScope scope;
+        const std::array<GradBound, 3> p{GradBound::variable(UpInterval(box[0]), 0),
+                                         GradBound::variable(UpInterval(box[1]), 1),
+                                         GradBound::variable(UpInterval(box[2]), 2)};
+        detail::run<GradBound>(tape.instrs(), p, regs.data());
+        const GradBound& out = regs[tape.output()];
+        if (!out.d.a.defined) return std::numeric_limits<double>::infinity();
+        lip = out.lip;
+        for (int i = 0; i < 3; ++i) parts[i] = Interval(out.d.v[i]);
+    }
+    // The components' norm scaled against underflow (GradBound's own is only rounded up).
+    return std::min(lip, norm_bound(parts));
 }
 
 double lipschitz_bound_segment(const Tape& tape, const std::array<double, 3>& p,

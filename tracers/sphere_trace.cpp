@@ -17,8 +17,22 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const TraceOptions& opt,
-                double kappa) {
+/// The signed distance bound |g|/λ at t from the tape and a global λ (space units).
+Interval tape_distance(const expr::Tape& tape, const Ray& ray, double lambda, double t) {
+    const Interval v = detail::g_at(tape, ray, t);
+    if (v.is_empty() || !v.defined || lambda != 0) return v / Interval(lambda);
+    // λ = 0: g is constant; its sign decides everything.
+    if (v.lower() > 0) return Interval(kInf);
+    if (v.upper() < 0) return Interval(-kInf);
+    return v;
+}
+
+}  // namespace
+
+namespace detail {
+
+RayResult trace_distance(const DistanceAt& distance, const expr::Tape& tape, const Ray& ray,
+                         const TraceOptions& opt, double kappa) {
     RayResult r;
     auto unknown = [&](double lo) {
         r.status = Status::Unknown;
@@ -26,11 +40,8 @@ RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const Tra
         r.t_hi = ray.tmax;
         return r;
     };
-    if (std::isnan(lambda) || lambda < 0 || lambda == kInf) return unknown(ray.tmin);
     const double dn = detail::norm_up(ray.d);
     if (dn == 0 || ray.tmin == ray.tmax) return detail::degenerate(tape, ray);
-    // λ along the ray, per unit of t: λ‖d‖ rounded up.
-    const double lam_t = (Interval(lambda) * Interval(dn)).upper();
     const double omega = 1.0 + std::max(0.0, kappa);
     bool relaxed = omega > 1.0;
 
@@ -39,7 +50,7 @@ RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const Tra
     bool pending = false;  // the step into t was over-relaxed and is not yet verified
     while (true) {
         if (r.evals.total() >= opt.budget) return unknown(pending ? t_prev : t);
-        const Interval v = detail::g_at(tape, ray, t);
+        const Interval v = distance(t);  // space units, sign of g
         ++r.evals.interval;
         if (v.is_empty() || !v.defined) {
             if (!pending) return unknown(t);
@@ -47,8 +58,8 @@ RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const Tra
             relaxed = pending = false;
             continue;
         }
-        const double m = detail::mignitude(v);
-        const double rad = lam_t == 0 ? (m > 0 ? kInf : 0.0) : detail::div_down(m, lam_t);
+        const double m = detail::mignitude(v);  // a free radius around the point, rounded down
+        const double rad = m == kInf ? kInf : detail::div_down(m, dn);
         if (pending) {
             pending = false;
             const double gap = (Interval(t) - Interval(t_prev)).upper();
@@ -60,7 +71,7 @@ RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const Tra
             }
         }
         // No root on [tmin, t); |g(t)|/λ is a free radius around t.
-        if (m == 0 || (lambda > 0 && m / lambda < opt.epsilon)) {
+        if (m < opt.epsilon) {
             r.status = Status::Hit;
             r.t_lo = r.t_hi = r.t = t;
             return r;
@@ -88,11 +99,28 @@ RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const Tra
     return r;
 }
 
-}  // namespace
+}  // namespace detail
 
 double global_lipschitz(const expr::Tape& tape, const std::array<Interval, 3>& bounds) {
     return expr::lipschitz_bound(tape, bounds);
 }
+
+namespace {
+
+RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const TraceOptions& opt,
+                double kappa) {
+    if (std::isnan(lambda) || lambda < 0 || lambda == kInf) {
+        RayResult r;
+        r.status = Status::Unknown;
+        r.t_lo = r.t = ray.tmin;
+        r.t_hi = ray.tmax;
+        return r;
+    }
+    return detail::trace_distance([&](double t) { return tape_distance(tape, ray, lambda, t); },
+                                  tape, ray, opt, kappa);
+}
+
+}  // namespace
 
 RayResult sphere_trace(const expr::Tape& tape, const Ray& ray, double lambda,
                        const TraceOptions& options) {

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 
 #include "expr/tape.h"
 #include "interval/interval.h"
@@ -37,5 +38,19 @@ RayResult sphere_trace(const expr::Tape& tape, const Ray& ray, double lambda,
 /// Enhanced (over-relaxed) sphere tracing with `lambda` and options.kappa (see the contract).
 RayResult enhanced_trace(const expr::Tape& tape, const Ray& ray, double lambda,
                          const TraceOptions& options);
+
+namespace detail {
+
+/// A signed distance bound at the exact point o + t·d: an enclosure of a value whose sign is f's
+/// and whose magnitude is at most the distance to the surface (within the region where it holds).
+/// Empty or undefined: unknown.
+using DistanceAt = std::function<Interval(double t)>;
+
+/// The loop of sphere_trace / enhanced_trace over any distance bound (bounding volumes use it);
+/// `tape` answers degenerate rays (‖d‖ = 0 or tmin = tmax). Same contract as sphere_trace.
+RayResult trace_distance(const DistanceAt& distance, const expr::Tape& tape, const Ray& ray,
+                         const TraceOptions& options, double kappa);
+
+}  // namespace detail
 
 }  // namespace certray::tracers
