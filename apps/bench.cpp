@@ -283,7 +283,8 @@ std::vector<Config> make_configs(const BenchOptions& o, bool stress) {
         } else if (m == "march") {
             sweep("step", {0.1, 0.03, 0.01, 0.003},
                   [](tracers::MethodOptions& p, double v) { p.step = v; });
-        } else if (m == "sphere" || m == "enhanced" || m == "segment" || m == "octree") {
+        } else if (m == "sphere" || m == "enhanced" || m == "segment" || m == "octree" ||
+                   m == "bvh") {
             sweep("epsilon", {1e-2, 1e-4, 1e-6, 1e-9},
                   [](tracers::MethodOptions& p, double v) { p.epsilon = v; });
             if (m == "octree" && !o.quick) {

@@ -35,6 +35,13 @@ double norm_bound(const std::array<Interval, 3>& grad) {
         m = std::max(m, mag[i]);
     }
     if (m == 0) return 0;
+    if (m > 0x1p-400 && m < 0x1p400) {
+        // No square can overflow, and any that underflows is below 2⁻⁸⁰⁰·m²: rounding everything
+        // upward in one scope bounds the norm directly (the common case, no rescaling).
+        RoundingScope scope;
+        const double sum = mag[0] * mag[0] + mag[1] * mag[1] + mag[2] * mag[2];
+        return std::sqrt(sum);
+    }
     // ‖g‖ = 2^e ‖g / 2^e‖ with 2^e near the largest component, so that the squares neither
     // underflow (a gradient of 1e-300 would otherwise give a bound of 1e-162) nor overflow.
     const int e = std::ilogb(m);

@@ -11,6 +11,7 @@
 #include "solvers/certified.h"
 #include "solvers/hermite.h"
 #include "tracers/approx.h"
+#include "tracers/bounding.h"
 #include "tracers/march.h"
 #include "tracers/octree.h"
 #include "tracers/segment_trace.h"
@@ -106,6 +107,49 @@ RayFunction make_lipschitz_tracer(const expr::Tape& tape, const MethodOptions& o
     };
 }
 
+/// Bounding volumes inside the bounds; the parts of the ray before and after them by sphere
+/// tracing with the bound of each part's own segment box (so nothing outside is assumed empty).
+RayFunction make_bvh(const expr::Tape& tape, const MethodOptions& o,
+                     const std::array<Interval, 3>& bounds) {
+    auto scene = std::make_shared<const BoundedScene>(tape, bounds);
+    const TraceOptions topt = trace_options(o);
+    return [&tape, scene, topt](const Ray& r) {
+        const Interval in = ray_box(r, scene->bounds());
+        RayResult out;
+        out.status = Status::Miss;
+        EvalCounts used;
+        auto part = [&](double lo, double hi, bool inside) {
+            // Outside parts share their end point with the inside part: only longer ones count.
+            if (!(inside ? lo <= hi : lo < hi) || out.status != Status::Miss) return;
+            Ray seg = r;
+            seg.tmin = lo;
+            seg.tmax = hi;
+            TraceOptions opt = topt;
+            opt.budget = topt.budget > used.total() ? topt.budget - used.total() : 0;
+            if (inside) {
+                out = bounded_sphere_trace(*scene, seg, opt);
+            } else {
+                std::array<Interval, 3> box;
+                for (int i = 0; i < 3; ++i) {
+                    box[i] = Interval(seg.o[i]) + Interval(seg.tmin, seg.tmax) * Interval(seg.d[i]);
+                }
+                ++used.gradient;
+                out = sphere_trace(tape, seg, expr::lipschitz_bound(tape, box), opt);
+            }
+            used += out.evals;
+        };
+        if (in.is_empty() || in.upper() < r.tmin || in.lower() > r.tmax) {
+            part(r.tmin, r.tmax, false);
+        } else {
+            part(r.tmin, in.lower(), false);
+            part(std::max(r.tmin, in.lower()), std::min(r.tmax, in.upper()), true);
+            part(in.upper(), r.tmax, false);
+        }
+        out.evals = used;
+        return out;
+    };
+}
+
 /// The bounds the octree methods subdivide: the given ones, else [−2, 2]³ (the gallery's frame).
 std::array<Interval, 3> octree_bounds(const MethodOptions& o) {
     if (o.bounds) return *o.bounds;
@@ -185,6 +229,16 @@ const Entry kMethods[] = {
          const double eps = o.epsilon;
          const std::uint64_t budget = o.budget;
          return [tree, eps, budget](const Ray& ray) { return tree->sphere(ray, eps, budget); };
+     }},
+    {"bvh",
+     "sphere tracing with bounding volumes (Hart 1996): f's unions, intersections and "
+     "complements down to its primitives, each with a box (interval slab contraction) and a "
+     "Lipschitz bound, unions as a BVH; a primitive far from the point is bounded by the "
+     "distance to its box. Inside the bounds (default [-2,2]^3); before and after them, sphere "
+     "tracing with the segment's bound. Approximate, never steps past the first root; knobs: "
+     "--epsilon, --budget, --bounds",
+     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+         return make_bvh(tape, o, octree_bounds(o));
      }},
     {"analytic",
      "piecewise-polynomial scenes (algebraic, CSG and blobs of polynomials): g's coefficients "

@@ -1,0 +1,229 @@
+// tests/tracers/bounding_test.cpp — bounding volumes (tracers/bounding.h): the structure read
+// from f, distance bounds against exact distances to unions of spheres, the tracer against the
+// certified solver (never past the first root, never a miss where a root is proven), roots that
+// geometry gives on the 10⁴-sphere CSG, and bad input.
+#include "tracers/bounding.h"
+
+#include <gtest/gtest.h>
+#include <rapidcheck.h>
+#include <rapidcheck/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include "expr/builder.h"
+#include "expr/eval.h"
+#include "expr/load.h"
+#include "expr/tape.h"
+#include "solvers/certified.h"
+#include "tests/support/generators.h"
+#include "tracers/methods.h"
+
+namespace certray::tracers {
+namespace {
+
+using Box = BoundedScene::Box;
+
+Box cube(double lo, double hi) { return {Interval(lo, hi), Interval(lo, hi), Interval(lo, hi)}; }
+
+Box point(const std::array<double, 3>& p) {
+    return {Interval(p[0]), Interval(p[1]), Interval(p[2])};
+}
+
+struct Sphere {
+    std::array<double, 3> c;
+    double r;
+};
+
+expr::Expr sphere(std::array<expr::Expr, 3> v, const Sphere& s) {
+    return sqrt(square(v[0] - s.c[0]) + square(v[1] - s.c[1]) + square(v[2] - s.c[2])) - s.r;
+}
+
+/// Union of spheres as a tape (a left-deep chain of min, as files write it).
+expr::Tape union_of(const std::vector<Sphere>& spheres) {
+    expr::Graph g;
+    const auto v = expr::vars(g);
+    expr::Expr f = sphere(v, spheres[0]);
+    for (std::size_t i = 1; i < spheres.size(); ++i) f = min(f, sphere(v, spheres[i]));
+    g.set_output(f.id);
+    return expr::Tape(g);
+}
+
+/// The exact distance from p to a union of spheres, for p outside all of them.
+double distance_outside(const std::vector<Sphere>& spheres, const std::array<double, 3>& p) {
+    double d = std::numeric_limits<double>::infinity();
+    for (const Sphere& s : spheres) {
+        const double dx = p[0] - s.c[0], dy = p[1] - s.c[1], dz = p[2] - s.c[2];
+        d = std::min(d, std::sqrt(dx * dx + dy * dy + dz * dz) - s.r);
+    }
+    return d;
+}
+
+rc::Gen<std::vector<Sphere>> gen_spheres() {
+    return rc::gen::exec([] {
+        std::vector<Sphere> out(*rc::gen::inRange(1, 40));
+        for (Sphere& s : out) {
+            for (double& c : s.c) c = *rc::gen::inRange(-150, 150) / 100.0;
+            s.r = *rc::gen::inRange(1, 40) / 100.0;
+        }
+        return out;
+    });
+}
+
+TEST(Bounding, ReadsTheCsgStructureOfTheGalleryScene) {
+    // min(max(box, −ball), max(stick, |z| − 1.6)) with box = max(|x| − .8, |y| − .8, |z| − .8):
+    // the first max cluster has four operands (three slabs and the complement of the ball), the
+    // second two: six leaves; nodes: 6 leaves, 1 complement, 3 + 1 max, 1 min.
+    const expr::Tape t(expr::load_graph_file(CERTRAY_SOURCE_DIR "/scenes/csg.expr"));
+    const BoundedScene scene(t, cube(-2, 2));
+    EXPECT_EQ(scene.leaves(), 6u);
+    EXPECT_EQ(scene.nodes(), 12u);
+}
+
+TEST(Bounding, FarFromEverySphereTheBoundIsTheDistanceToTheirBox) {
+    // Unit spheres at (±3, 0, 0): at the origin the exact distance is 2; the bound must not
+    // exceed it, and is the distance to a sphere's box, cut by bisection to within 2⁻¹² of the
+    // bounds' side (16) per round.
+    const std::vector<Sphere> s{{{3, 0, 0}, 1}, {{-3, 0, 0}, 1}};
+    const BoundedScene scene(union_of(s), cube(-8, 8));
+    std::uint64_t evals = 0;
+    const Interval d = scene.distance(point({0, 0, 0}), evals);
+    EXPECT_LE(d.lower(), 2.0);
+    EXPECT_GE(d.lower(), 2.0 - 16.0 / 4096);
+    // Inside a sphere the sign is negative: the centre is 1 from the boundary.
+    const Interval in = scene.distance(point({3, 0, 0}), evals);
+    EXPECT_LT(in.upper(), 0);
+    EXPECT_GE(in.lower(), -1.0 - 1e-12);
+}
+
+RC_GTEST_PROP(BoundingProperty, NeverMoreThanTheExactDistanceToAUnionOfSpheres, ()) {
+    const std::vector<Sphere> spheres = *gen_spheres();
+    const BoundedScene scene(union_of(spheres), cube(-2, 2));
+    for (int k = 0; k < 20; ++k) {
+        std::array<double, 3> p;
+        for (double& c : p) c = *rc::gen::inRange(-200, 200) / 100.0;
+        const double exact = distance_outside(spheres, p);
+        std::uint64_t evals = 0;
+        const Interval d = scene.distance(point(p), evals, *rc::gen::element(0.0, 0.01, 0.3));
+        RC_ASSERT(d.defined);
+        if (exact > 1e-9) {
+            RC_ASSERT(d.lower() > 0);               // outside: positive
+            RC_ASSERT(d.lower() <= exact + 1e-12);  // a lower bound of the distance
+        } else if (exact < -1e-9) {
+            RC_ASSERT(d.upper() < 0);  // inside some sphere: negative
+        }
+    }
+}
+
+/// f(o + t·d) in double.
+double value_at(const expr::Tape& tape, const Ray& ray, double t) {
+    return expr::eval<double>(
+        tape, {ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1], ray.o[2] + t * ray.d[2]});
+}
+
+/// A random CSG of spheres: unions, differences and intersections (max with a complement / a
+/// big sphere), as a tape.
+rc::Gen<expr::Tape> gen_csg() {
+    return rc::gen::exec([] {
+        const std::vector<Sphere> spheres = *gen_spheres();
+        expr::Graph g;
+        const auto v = expr::vars(g);
+        expr::Expr f = sphere(v, spheres[0]);
+        for (std::size_t i = 1; i < spheres.size(); ++i) {
+            const expr::Expr s = sphere(v, spheres[i]);
+            switch (*rc::gen::inRange(0, 4)) {
+                case 0:
+                    f = max(f, -s);  // difference
+                    break;
+                case 1:
+                    f = max(f, s - 0.5);  // intersection with a larger sphere
+                    break;
+                default:
+                    f = min(f, s);
+            }
+        }
+        g.set_output(f.id);
+        return expr::Tape(g);
+    });
+}
+
+RC_GTEST_PROP(BoundingProperty, NeverPastTheCertifiedFirstRootNorMissingAProvenOne, ()) {
+    const expr::Tape tape = *gen_csg();
+    const BoundedScene scene(tape, cube(-2.5, 2.5));
+    TraceOptions opt;
+    opt.epsilon = 1e-7;
+    for (int k = 0; k < 8; ++k) {
+        const Ray ray = *testing::gen_ray();
+        const RayResult got = bounded_sphere_trace(scene, ray, opt);
+        const RayResult ref = solvers::certified_first_root(tape, ray, {});
+        if (ref.status == Status::Hit) {
+            // A root is proven at t ≤ ref.t_hi: the tracer stops at or before it, never misses.
+            RC_ASSERT(got.status != Status::Miss);
+            if (got.status == Status::Hit) RC_ASSERT(got.t <= ref.t_hi);
+        }
+        if (ref.status == Status::Miss) {
+            // No root: a hit is only the classic ε-termination beside the surface (|f|/λ < ε).
+            RC_ASSERT(got.status != Status::Hit || std::fabs(value_at(tape, ray, got.t)) < 1e-6);
+        }
+    }
+}
+
+TEST(Bounding, FindsTheSpheresOfTheTenThousandSphereCsg) {
+    // scenes/stress/deep_csg.expr: spheres of radius 0.004 centred at (0.01 i, 0.01 j, 0).
+    const expr::Tape t(expr::load_graph_file(CERTRAY_SOURCE_DIR "/scenes/stress/deep_csg.expr"));
+    const BoundedScene scene(t, cube(-2, 2));
+    EXPECT_EQ(scene.leaves(), 10000u);
+    TraceOptions opt;
+    opt.epsilon = 1e-9;
+    // Straight down onto the centre (0.5, 0.5, 0) from z = −1: the root is z = −0.004.
+    Ray down;
+    down.o = {0.5, 0.5, -1};
+    down.d = {0, 0, 1};
+    down.tmin = 0;
+    down.tmax = 2;
+    const RayResult hit = bounded_sphere_trace(scene, down, opt);
+    ASSERT_EQ(hit.status, Status::Hit);
+    EXPECT_NEAR(hit.t, 1 - 0.004, 1e-8);
+    EXPECT_LE(hit.t, 1 - 0.004);
+    // Between four spheres: 0.005·√2 ≈ 0.00707 from each centre, more than the radius.
+    down.o = {0.505, 0.505, -1};
+    EXPECT_EQ(bounded_sphere_trace(scene, down, opt).status, Status::Miss);
+    // Through the registry, with the default bounds.
+    const RayFunction bvh = make_method("bvh", t, MethodOptions{});
+    down.o = {0.25, 0.73, -1};
+    const RayResult r = bvh(down);
+    ASSERT_EQ(r.status, Status::Hit);
+    EXPECT_NEAR(r.t, 1 - 0.004, 1e-5);
+}
+
+TEST(Bounding, TheMethodTracesOutsideTheBoundsToo) {
+    // A sphere at x = 5, outside the default bounds [−2, 2]³: the part of the ray beyond them is
+    // traced with its own segment's bound, so the hit at t = 4 (x = 4) is found.
+    expr::Graph g;
+    const auto v = expr::vars(g);
+    g.set_output(sphere(v, {{5, 0, 0}, 1}).id);
+    const expr::Tape t(g);
+    const RayFunction bvh = make_method("bvh", t, MethodOptions{});
+    Ray ray;
+    ray.o = {0, 0, 0};
+    ray.d = {1, 0, 0};
+    ray.tmin = 0;
+    ray.tmax = 10;
+    const RayResult r = bvh(ray);
+    ASSERT_EQ(r.status, Status::Hit);
+    EXPECT_NEAR(r.t, 4.0, 1e-5);
+    EXPECT_LE(r.t, 4.0);
+}
+
+TEST(Bounding, RejectsUnboundedBounds) {
+    const expr::Tape t = union_of({{{0, 0, 0}, 1}});
+    const double inf = std::numeric_limits<double>::infinity();
+    EXPECT_THROW(BoundedScene(t, {Interval(-inf, 1), Interval(-1, 1), Interval(-1, 1)}),
+                 std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace certray::tracers

@@ -1,0 +1,385 @@
+// tracers/bounding.cpp — bounding volumes over the CSG structure of f (see bounding.h).
+#include "tracers/bounding.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "expr/derived.h"
+#include "expr/eval.h"
+#include "tracers/octree.h"
+#include "tracers/sphere_trace.h"
+
+namespace certray::tracers {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+using Box = BoundedScene::Box;
+
+/// The tape of the subexpression `root` of g alone (its nodes copied into a fresh graph).
+expr::Tape sub_tape(const expr::Graph& g, expr::NodeId root) {
+    expr::Graph out;
+    std::unordered_map<std::uint32_t, expr::NodeId> map;
+    for (const expr::NodeId id : g.topological_order(root)) {
+        const expr::Node& n = g.node(id);
+        expr::NodeId m;
+        switch (n.op) {
+            case expr::Op::Const:
+                m = out.constant(n.constant);
+                break;
+            case expr::Op::VarX:
+            case expr::Op::VarY:
+            case expr::Op::VarZ:
+                m = out.var(static_cast<int>(n.op) - static_cast<int>(expr::Op::VarX));
+                break;
+            case expr::Op::Pow:
+                m = out.pow(map.at(n.a.value), n.exponent);
+                break;
+            default:
+                m = expr::arity(n.op) == 1 ? out.unary(n.op, map.at(n.a.value))
+                                           : out.binary(n.op, map.at(n.a.value), map.at(n.b.value));
+        }
+        map[id.value] = m;
+    }
+    out.set_output(map.at(root.value));
+    return expr::Tape(out);
+}
+
+/// The graph of a tape's SSA form (the CSG structure is read from it).
+expr::Graph graph_of(const expr::Tape& tape) {
+    expr::Graph g;
+    std::vector<expr::NodeId> id(tape.ssa().size());
+    for (std::size_t i = 0; i < tape.ssa().size(); ++i) {
+        const expr::Instr& in = tape.ssa()[i];
+        switch (in.op) {
+            case expr::Op::Const:
+                id[i] = g.constant(in.imm);
+                break;
+            case expr::Op::VarX:
+            case expr::Op::VarY:
+            case expr::Op::VarZ:
+                id[i] = g.var(static_cast<int>(in.op) - static_cast<int>(expr::Op::VarX));
+                break;
+            case expr::Op::Pow:
+                id[i] = g.pow(id[in.a], in.b);
+                break;
+            default:
+                id[i] = expr::arity(in.op) == 1 ? g.unary(in.op, id[in.a])
+                                                : g.binary(in.op, id[in.a], id[in.b]);
+        }
+    }
+    if (!id.empty()) g.set_output(id.back());
+    return g;
+}
+
+/// Encloses the solid {f ≤ 0} (and wherever f may be undefined) inside `bounds` by a box, by
+/// slab contraction: for each side of the box in turn, the thickest slab on which interval
+/// evaluation proves f > 0 is cut off (bisection on its thickness; a thinner slab of a proven one
+/// is proven too). Slabs shrink with the box, so later rounds are tighter. Sound for any f; tight
+/// for sums of squares and their roots (a primitive's box up to 2⁻ⁱᵗᵉʳˢ of the current side).
+void solid_box(const expr::Tape& tape, const Box& bounds, const BoundingOptions& o,
+               std::array<double, 3>& lo, std::array<double, 3>& hi) {
+    thread_local expr::Evaluator<Interval> eval;
+    for (int i = 0; i < 3; ++i) {
+        lo[i] = bounds[i].lower();
+        hi[i] = bounds[i].upper();
+    }
+    auto positive_on = [&](int axis, double a, double b) {
+        Box box;
+        for (int i = 0; i < 3; ++i) box[i] = Interval(lo[i], hi[i]);
+        box[axis] = Interval(a, b);
+        const Interval v = eval(tape, box);
+        return v.defined && !v.is_empty() && v.lower() > 0;
+    };
+    for (int round = 0; round < o.slab_rounds; ++round) {
+        for (int axis = 0; axis < 3; ++axis) {
+            if (positive_on(axis, lo[axis], hi[axis])) {  // no solid at all in the box
+                lo.fill(kInf);
+                hi.fill(-kInf);
+                return;
+            }
+            // From below: the largest proven s with f > 0 on [lo, s]; the box keeps [s, hi].
+            double keep = lo[axis], cut = hi[axis];  // proven-free up to keep; cut not proven
+            for (int it = 0; it < o.slab_steps; ++it) {
+                const double mid = 0.5 * keep + 0.5 * cut;
+                if (!(mid > keep && mid < cut)) break;
+                (positive_on(axis, lo[axis], mid) ? keep : cut) = mid;
+            }
+            lo[axis] = keep;
+            // From above, symmetrically.
+            keep = hi[axis];
+            cut = lo[axis];
+            for (int it = 0; it < o.slab_steps; ++it) {
+                const double mid = 0.5 * keep + 0.5 * cut;
+                if (!(mid < keep && mid > cut)) break;
+                (positive_on(axis, mid, hi[axis]) ? keep : cut) = mid;
+            }
+            hi[axis] = keep;
+        }
+    }
+}
+
+}  // namespace
+
+BoundedScene::BoundedScene(const expr::Tape& tape, const Box& bounds,
+                           const BoundingOptions& options)
+    : bounds_(bounds), tape_(tape), options_(options) {
+    const auto start = std::chrono::steady_clock::now();
+    double diag2 = 0;
+    for (const Interval& b : bounds) {
+        if (b.is_empty() || !std::isfinite(b.lower()) || !std::isfinite(b.upper())) {
+            throw std::invalid_argument(
+                "bounding volumes: the bounds must be finite and non-empty");
+        }
+        diag2 += (b.upper() - b.lower()) * (b.upper() - b.lower());
+    }
+    margin_ = options.margin * std::sqrt(diag2);
+    const expr::Graph graph = graph_of(tape);
+    if (!graph.output().valid()) throw std::invalid_argument("bounding volumes: empty tape");
+    root_ = build(graph, graph.output(), 0);
+    build_seconds_ =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::uint32_t BoundedScene::add(Node n) {
+    nodes_.push_back(n);
+    return static_cast<std::uint32_t>(nodes_.size() - 1);
+}
+
+std::uint32_t BoundedScene::build(const expr::Graph& g, expr::NodeId id, int nesting) {
+    const expr::Node& n = g.node(id);
+    if (nesting < options_.max_nesting) {
+        if (n.op == expr::Op::Min || n.op == expr::Op::Max) return cluster(g, id, nesting);
+        if (n.op == expr::Op::Neg) {
+            const std::uint32_t child = build(g, n.a, nesting + 1);
+            Node neg{Kind::Neg, {}, {}, child, 0};
+            for (int i = 0; i < 3; ++i) {  // the complement's solid: anywhere in the bounds
+                neg.lo[i] = bounds_[i].lower();
+                neg.hi[i] = bounds_[i].upper();
+            }
+            return add(neg);
+        }
+    }
+    return leaf(g, id);
+}
+
+std::uint32_t BoundedScene::cluster(const expr::Graph& g, expr::NodeId id, int nesting) {
+    const expr::Op op = g.node(id).op;
+    std::vector<std::uint32_t> parts;
+    std::vector<expr::NodeId> stack{id};
+    while (!stack.empty()) {
+        const expr::NodeId k = stack.back();
+        stack.pop_back();
+        const expr::Node& n = g.node(k);
+        if (n.op == op) {
+            stack.push_back(n.b);
+            stack.push_back(n.a);
+        } else {
+            parts.push_back(build(g, k, nesting + 1));
+        }
+    }
+    return balance(parts, 0, parts.size(), op == expr::Op::Min ? Kind::Min : Kind::Max);
+}
+
+std::uint32_t BoundedScene::balance(std::vector<std::uint32_t>& parts, std::size_t lo,
+                                    std::size_t hi, Kind kind) {
+    if (hi - lo == 1) return parts[lo];
+    // Split at the median of the box centres along the axis where they spread most.
+    std::array<double, 3> cmin, cmax;
+    cmin.fill(kInf);
+    cmax.fill(-kInf);
+    auto centre = [&](std::uint32_t k, int i) {
+        const Node& n = nodes_[k];
+        return n.lo[i] <= n.hi[i] ? 0.5 * n.lo[i] + 0.5 * n.hi[i] : 0.0;
+    };
+    for (std::size_t k = lo; k < hi; ++k) {
+        for (int i = 0; i < 3; ++i) {
+            cmin[i] = std::min(cmin[i], centre(parts[k], i));
+            cmax[i] = std::max(cmax[i], centre(parts[k], i));
+        }
+    }
+    int axis = 0;
+    for (int i = 1; i < 3; ++i) {
+        if (cmax[i] - cmin[i] > cmax[axis] - cmin[axis]) axis = i;
+    }
+    const std::size_t mid = lo + (hi - lo) / 2;
+    std::nth_element(
+        parts.begin() + static_cast<std::ptrdiff_t>(lo),
+        parts.begin() + static_cast<std::ptrdiff_t>(mid),
+        parts.begin() + static_cast<std::ptrdiff_t>(hi),
+        [&](std::uint32_t a, std::uint32_t b) { return centre(a, axis) < centre(b, axis); });
+    const std::uint32_t left = balance(parts, lo, mid, kind);
+    const std::uint32_t right = balance(parts, mid, hi, kind);
+    Node n{kind, {}, {}, left, right};
+    const Node &a = nodes_[left], &b = nodes_[right];
+    for (int i = 0; i < 3; ++i) {
+        // Union: the hull of the solids' boxes; intersection: their intersection. An empty box
+        // (lo > hi) is absorbed by the hull and absorbs the intersection.
+        n.lo[i] = kind == Kind::Min ? std::min(a.lo[i], b.lo[i]) : std::max(a.lo[i], b.lo[i]);
+        n.hi[i] = kind == Kind::Min ? std::max(a.hi[i], b.hi[i]) : std::min(a.hi[i], b.hi[i]);
+    }
+    return add(n);
+}
+
+std::uint32_t BoundedScene::leaf(const expr::Graph& g, expr::NodeId id) {
+    Leaf l{sub_tape(g, id), kInf};
+    Node n{Kind::Leaf, {}, {}, static_cast<std::uint32_t>(leaves_.size()), 0};
+    solid_box(l.tape, bounds_, options_, n.lo, n.hi);
+    if (n.lo[0] <= n.hi[0]) {
+        // λ over the box inflated by the margin: every point where the leaf is evaluated, and
+        // the segment from it to its nearest surface point in the bounds, lie there.
+        Box region;
+        for (int i = 0; i < 3; ++i) {
+            region[i] = Interval((Interval(n.lo[i]) - Interval(margin_)).lower(),
+                                 (Interval(n.hi[i]) + Interval(margin_)).upper());
+        }
+        l.lambda = expr::lipschitz_bound(l.tape, region);
+    }
+    leaves_.push_back(std::move(l));
+    return add(n);
+}
+
+double BoundedScene::box_distance(const Node& n, const Box& p) const {
+    if (!(n.lo[0] <= n.hi[0]) || !(n.lo[1] <= n.hi[1]) || !(n.lo[2] <= n.hi[2])) return kInf;
+    // In round-to-nearest: the gaps (one rounding each), their squares, the sum and the root
+    // carry a relative error below 6·2⁻⁵³ (squares that underflow only lower the result), so
+    // scaling by 1 − 10⁻¹⁵ rounds the distance down; an overflow falls back to the largest gap.
+    double sum = 0, largest = 0;
+    for (int i = 0; i < 3; ++i) {
+        double gap = 0;
+        if (p[i].lower() > n.hi[i]) gap = p[i].lower() - n.hi[i];
+        if (p[i].upper() < n.lo[i]) gap = n.lo[i] - p[i].upper();
+        sum += gap * gap;
+        largest = std::max(largest, gap);
+    }
+    const double d = std::sqrt(sum);
+    return (std::isfinite(d) ? d : largest) * (1 - 1e-15);
+}
+
+namespace {
+
+/// The distance bound of a node known to be outside its box by `db` > 0: the larger of the two.
+Interval floor_at(const Interval& d, double db) {
+    if (!(db > 0) || d.is_empty() || !d.defined) return d;
+    return Interval(std::max(d.lower(), db), std::max(d.upper(), db));
+}
+
+Interval unknown_distance() {
+    Interval r = Interval::entire();
+    r.defined = false;
+    return r;
+}
+
+}  // namespace
+
+namespace {
+
+/// v / lambda (lambda > 0, finite) enclosed outward: the quotients in round-to-nearest, moved one
+/// double outward (a correctly rounded result is within half an ulp of the real quotient).
+Interval divide(const Interval& v, double lambda) {
+    return Interval(std::nextafter(v.lower() / lambda, -kInf),
+                    std::nextafter(v.upper() / lambda, kInf));
+}
+
+/// min(|d|, rho) with d's sign, as an enclosure (d certainly non-zero).
+Interval clamp_magnitude(const Interval& d, double rho) {
+    if (d.lower() > 0) return Interval(std::min(d.lower(), rho), std::min(d.upper(), rho));
+    return Interval(std::max(d.lower(), -rho), std::max(d.upper(), -rho));
+}
+
+}  // namespace
+
+Interval BoundedScene::leaf_distance(const Leaf& l, const Box& p, double db, double rho,
+                                     std::uint64_t& leaf_evals) const {
+    thread_local expr::Evaluator<Interval> eval;
+    const Interval v = eval(l.tape, p);
+    ++leaf_evals;
+    if (v.is_empty() || !v.defined) return unknown_distance();
+    if (l.lambda == 0) {  // constant on the region: the sign says everything
+        if (v.lower() > 0) return Interval(kInf);
+        if (v.upper() < 0) return Interval(-kInf);
+        return v;
+    }
+    Interval d = l.lambda < kInf ? floor_at(divide(v, l.lambda), db) : unknown_distance();
+    const bool usable = d.defined && !d.is_empty();
+    if (rho > 0 && (!usable || detail::mignitude(d) < rho / 2) && !contains(v, 0.0)) {
+        Box local;
+        for (int i = 0; i < 3; ++i) {
+            local[i] = Interval(std::nextafter(p[i].lower() - rho, -kInf),
+                                std::nextafter(p[i].upper() + rho, kInf));
+        }
+        const double lam = expr::lipschitz_bound(l.tape, local);
+        ++leaf_evals;
+        if (lam > 0 && lam < kInf) {
+            const Interval near = clamp_magnitude(divide(v, lam), rho);
+            if (!usable || detail::mignitude(near) > detail::mignitude(d)) d = near;
+        }
+    }
+    return d;
+}
+
+Interval BoundedScene::distance(const Box& p, std::uint64_t& leaf_evals, double rho) const {
+    // Recursion depth: the CSG nesting (≤ max_nesting) times the BVH depth (log₂ of a cluster).
+    // `best` is an upper bound of the union being computed by the callers (+inf elsewhere): a
+    // node outside its box (db > 0) has a bound ≥ db, so with db ≥ best it cannot lower the
+    // union and its box distance stands in for it (nearest-neighbour pruning).
+    auto visit = [&](auto& self, std::uint32_t k, double best) -> Interval {
+        const Node& n = nodes_[k];
+        const double db = box_distance(n, p);
+        if (db > margin_ || (db > 0 && db >= best)) return Interval(db);
+        switch (n.kind) {
+            case Kind::Leaf:
+                return leaf_distance(leaves_[n.a], p, db, rho, leaf_evals);
+            case Kind::Neg:
+                return -self(self, n.a, kInf);
+            case Kind::Min: {
+                // The nearer box first; its result bounds what the other may contribute.
+                std::uint32_t first = n.a, second = n.b;
+                if (box_distance(nodes_[first], p) > box_distance(nodes_[second], p)) {
+                    std::swap(first, second);
+                }
+                const Interval d1 = self(self, first, best);
+                const double b2 = d1.defined && !d1.is_empty() ? std::min(best, d1.upper()) : best;
+                return floor_at(min(d1, self(self, second, b2)), db);
+            }
+            case Kind::Max:
+                // Both operands: a certainly positive one alone would be a valid bound, but a
+                // loose one (the face of a box carved away by the other operand) would stop the
+                // tracer far from the surface.
+                return floor_at(max(self(self, n.a, kInf), self(self, n.b, kInf)), db);
+        }
+        return unknown_distance();
+    };
+    return visit(visit, root_, kInf);
+}
+
+RayResult bounded_sphere_trace(const BoundedScene& scene, const Ray& r, const TraceOptions& opt) {
+    Ray ray = r;
+    RayResult miss;
+    miss.status = Status::Miss;
+    const Interval in = ray_box(ray, scene.bounds());
+    if (in.is_empty()) return miss;
+    ray.tmin = std::max(ray.tmin, in.lower());
+    ray.tmax = std::min(ray.tmax, in.upper());
+    if (!(ray.tmin <= ray.tmax)) return miss;
+    std::uint64_t leaf_evals = 0;
+    double previous = kInf;
+    auto distance = [&](double t) {
+        // o + t·d with one rounding (fma), then one double outward: encloses the exact point.
+        Box p;
+        for (int i = 0; i < 3; ++i) {
+            const double x = std::fma(t, ray.d[i], ray.o[i]);
+            p[i] = Interval(std::nextafter(x, -kInf), std::nextafter(x, kInf));
+        }
+        const double rho = previous < kInf ? std::max(16 * opt.epsilon, 2 * previous) : 0.0;
+        const Interval d = scene.distance(p, leaf_evals, rho);
+        if (d.defined && !d.is_empty()) previous = detail::mignitude(d);
+        return d;
+    };
+    return detail::trace_distance(distance, scene.tape(), ray, opt, 0.0);
+}
+
+}  // namespace certray::tracers

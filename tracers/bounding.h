@@ -1,0 +1,113 @@
+// tracers/bounding.h — bounding volumes: a signed distance bound that skips far primitives.
+//
+// Contract: BoundedScene mirrors the CSG structure at the top of f — maximal clusters of min
+// (union) and max (intersection) and negations (complement) — down to leaves (any other
+// subexpression, e.g. a primitive). Every node gets a box enclosing its solid {node ≤ 0} inside
+// the bounds (leaves: by interval slab contraction; unions: the hull; intersections: the
+// intersection; complements: the bounds), each leaf a Lipschitz bound λ over its box inflated by
+// the margin (expr::lipschitz_bound, with root forms so that Euclidean distances get λ = 1), and
+// each union cluster a balanced tree of boxes (a BVH). distance(p) is then Hart's CSG distance
+// bound (1996): leaves f/λ, unions min, intersections max, complements negation — except that a
+// node whose box is farther than the margin from p is replaced by the distance to its box, as the
+// seed's "piecewise lower distance bound" says, and a union's subtrees whose boxes are farther
+// than the best distance so far are not visited. The result has f's sign and a magnitude at most
+// the distance from p to the surface inside the bounds: sufficient for sphere tracing (never
+// steps past the first root inside the bounds), not for modelling (it is not f).
+// Build cost: O(leaves · cells) interval evaluations of leaf tapes; memory O(leaves).
+// Reference: docs/theory/bounding.md; Hart 1996 §3 (CSG distance bounds), §4 (bounding volumes).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "expr/graph.h"
+#include "expr/tape.h"
+#include "interval/interval.h"
+#include "solvers/ray.h"
+#include "tracers/march.h"
+
+namespace certray::tracers {
+
+/// How bounding volumes are built.
+struct BoundingOptions {
+    /// A node closer than margin·diagonal(bounds) to the query point is evaluated, not bounded.
+    double margin = 1.0 / 64;
+    /// Rounds of slab contraction that find each leaf's box (each round cuts all six sides).
+    int slab_rounds = 3;
+    /// Bisection steps per side and round (the cut is within 2⁻ˢᵗᵉᵖˢ of the side's length).
+    int slab_steps = 12;
+    /// Deeper CSG nesting (alternating unions, intersections, complements) becomes one leaf.
+    int max_nesting = 48;
+};
+
+/// A scene prepared for sphere tracing with bounding volumes (see the file contract).
+class BoundedScene {
+  public:
+    using Box = std::array<Interval, 3>;
+
+    /// Builds the volumes of the tape's function inside `bounds` (finite, non-empty; else
+    /// std::invalid_argument).
+    BoundedScene(const expr::Tape& tape, const Box& bounds, const BoundingOptions& options = {});
+
+    /// An enclosure of the signed distance bound at every point of the box p (a tiny box around
+    /// one point); `leaf_evals` counts the leaf tapes evaluated (values and local bounds).
+    /// With rho > 0, a leaf whose bound from its box's λ is below rho/2 also tries the local λ
+    /// over p ⊕ rho: min(|f|/λ_local, rho) is a distance bound too (the nearest surface point
+    /// within rho is reached inside that box; a farther one is farther than rho), and the larger
+    /// of the two is kept — so a loose λ neither stalls the tracer nor stops it far from the
+    /// surface. Undefined (decoration false) where a leaf is undefined or has no finite λ.
+    /// Thread-safe.
+    Interval distance(const Box& p, std::uint64_t& leaf_evals, double rho = 0) const;
+
+    /// The bounds everything holds in.
+    const Box& bounds() const { return bounds_; }
+    /// The full tape of f (for degenerate rays and outside the bounds).
+    const expr::Tape& tape() const { return tape_; }
+    /// Number of leaves and of tree nodes.
+    std::size_t leaves() const { return leaves_.size(); }
+    std::size_t nodes() const { return nodes_.size(); }
+    /// Wall time of the build in seconds.
+    double build_seconds() const { return build_seconds_; }
+
+  private:
+    enum class Kind : std::uint8_t { Leaf, Neg, Min, Max };
+    struct Node {
+        Kind kind = Kind::Leaf;
+        std::array<double, 3> lo{}, hi{};  ///< the solid's box (lo > hi: empty)
+        std::uint32_t a = 0, b = 0;        ///< children (Neg: a); Leaf: a = leaf index
+    };
+    struct Leaf {
+        expr::Tape tape;
+        double lambda = 0;
+    };
+
+    std::uint32_t build(const expr::Graph& g, expr::NodeId id, int nesting);
+    std::uint32_t cluster(const expr::Graph& g, expr::NodeId id, int nesting);
+    std::uint32_t balance(std::vector<std::uint32_t>& parts, std::size_t lo, std::size_t hi,
+                          Kind kind);
+    std::uint32_t leaf(const expr::Graph& g, expr::NodeId id);
+    std::uint32_t add(Node n);
+    double box_distance(const Node& n, const Box& p) const;
+    Interval leaf_distance(const Leaf& l, const Box& p, double db, double rho,
+                           std::uint64_t& leaf_evals) const;
+
+    Box bounds_;
+    expr::Tape tape_;
+    BoundingOptions options_;
+    double margin_ = 0;
+    std::vector<Node> nodes_;
+    std::vector<Leaf> leaves_;
+    std::uint32_t root_ = 0;
+    double build_seconds_ = 0;
+};
+
+/// Sphere tracing with the scene's bounding volumes inside its bounds (Hart 1996): the ray is
+/// clipped to the bounds; each step evaluates distance() once (evals.interval) with
+/// rho = max(16·epsilon, 2·the previous distance) (local bounds where the box's λ is loose).
+/// Same answers and guarantee as sphere_trace. The ray outside the bounds is the caller's.
+RayResult bounded_sphere_trace(const BoundedScene& scene, const Ray& ray,
+                               const TraceOptions& options);
+
+}  // namespace certray::tracers
