@@ -2,6 +2,7 @@
 #include "tracers/methods.h"
 
 #include <algorithm>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -107,35 +108,26 @@ RayFunction make_lipschitz_tracer(const expr::Tape& tape, const MethodOptions& o
     };
 }
 
-/// Bounding volumes inside the bounds; the parts of the ray before and after them by sphere
-/// tracing with the bound of each part's own segment box (so nothing outside is assumed empty).
-RayFunction make_bvh(const expr::Tape& tape, const MethodOptions& o,
-                     const std::array<Interval, 3>& bounds) {
-    auto scene = std::make_shared<const BoundedScene>(tape, bounds);
-    const TraceOptions topt = trace_options(o);
-    return [&tape, scene, topt](const Ray& r) {
-        const Interval in = ray_box(r, scene->bounds());
+/// A tracer that holds inside `bounds` (the octree's, the bounding volumes'), applied there; the
+/// parts of the ray before and after the bounds by segment tracing (local bounds along the ray,
+/// never past the first root), so that nothing outside the bounds is assumed empty.
+RayFunction inside_and_out(const expr::Tape& tape, const std::array<Interval, 3>& bounds,
+                           const TraceOptions& topt,
+                           std::function<RayResult(const Ray&, const TraceOptions&)> inside) {
+    return [&tape, bounds, topt, inside](const Ray& r) {
+        const Interval in = ray_box(r, bounds);
         RayResult out;
         out.status = Status::Miss;
         EvalCounts used;
-        auto part = [&](double lo, double hi, bool inside) {
+        auto part = [&](double lo, double hi, bool within) {
             // Outside parts share their end point with the inside part: only longer ones count.
-            if (!(inside ? lo <= hi : lo < hi) || out.status != Status::Miss) return;
+            if (!(within ? lo <= hi : lo < hi) || out.status != Status::Miss) return;
             Ray seg = r;
             seg.tmin = lo;
             seg.tmax = hi;
             TraceOptions opt = topt;
             opt.budget = topt.budget > used.total() ? topt.budget - used.total() : 0;
-            if (inside) {
-                out = bounded_sphere_trace(*scene, seg, opt);
-            } else {
-                std::array<Interval, 3> box;
-                for (int i = 0; i < 3; ++i) {
-                    box[i] = Interval(seg.o[i]) + Interval(seg.tmin, seg.tmax) * Interval(seg.d[i]);
-                }
-                ++used.gradient;
-                out = sphere_trace(tape, seg, expr::lipschitz_bound(tape, box), opt);
-            }
+            out = within ? inside(seg, opt) : segment_trace(tape, seg, opt);
             used += out.evals;
         };
         if (in.is_empty() || in.upper() < r.tmin || in.lower() > r.tmax) {
@@ -221,24 +213,30 @@ const Entry kMethods[] = {
      }},
     {"octree",
      "sphere tracing with the local Lipschitz bound of each octree cell (Hart 1996) inside the "
-     "bounds (default [-2,2]^3, --depth 5; the scene is taken as empty outside them); approximate, "
-     "never steps past a root inside the bounds; knobs: --epsilon, --budget, --bounds, --depth",
+     "bounds (default [-2,2]^3, --depth 5); before and after them, segment tracing; approximate, "
+     "never steps past the first root; knobs: --epsilon, --budget, "
+     "--bounds, --depth",
      [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
          auto tree = std::make_shared<const Octree>(tape, octree_bounds(o),
                                                     OctreeOptions{o.depth, std::size_t{1} << 20});
-         const double eps = o.epsilon;
-         const std::uint64_t budget = o.budget;
-         return [tree, eps, budget](const Ray& ray) { return tree->sphere(ray, eps, budget); };
+         return inside_and_out(tape, tree->bounds(), trace_options(o),
+                               [tree](const Ray& ray, const TraceOptions& opt) {
+                                   return tree->sphere(ray, opt.epsilon, opt.budget);
+                               });
      }},
     {"bvh",
      "sphere tracing with bounding volumes (Hart 1996): f's unions, intersections and "
      "complements down to its primitives, each with a box (interval slab contraction) and a "
      "Lipschitz bound, unions as a BVH; a primitive far from the point is bounded by the "
-     "distance to its box. Inside the bounds (default [-2,2]^3); before and after them, sphere "
-     "tracing with the segment's bound. Approximate, never steps past the first root; knobs: "
+     "distance to its box. Inside the bounds (default [-2,2]^3); before and after them, segment "
+     "tracing. Approximate, never steps past the first root; knobs: "
      "--epsilon, --budget, --bounds",
      [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         return make_bvh(tape, o, octree_bounds(o));
+         auto scene = std::make_shared<const BoundedScene>(tape, octree_bounds(o));
+         return inside_and_out(tape, scene->bounds(), trace_options(o),
+                               [scene](const Ray& ray, const TraceOptions& opt) {
+                                   return bounded_sphere_trace(*scene, ray, opt);
+                               });
      }},
     {"analytic",
      "piecewise-polynomial scenes (algebraic, CSG and blobs of polynomials): g's coefficients "

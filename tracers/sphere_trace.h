@@ -6,8 +6,9 @@
 // the scene bounds given to global_lipschitz). At each point, g(t) is enclosed by interval
 // arithmetic at the exact real t, and the step |g|/(λ‖d‖) is rounded down, as is t + step: so
 // every t visited is ≤ the first root of g on [tmin, tmax].
-// Answers: Hit at t (t_lo = t_hi = t) when |f|/λ < epsilon there (an approximate hit: the surface
-// is within epsilon of the point, a root is not proven); Miss when a step passes tmax (proven: no
+// Answers: Hit at t (t_lo = t_hi = t) when |f|/λ < epsilon there (an approximate hit, no root
+// proven: the surface is within about epsilon only where λ is close to |∇f|; a loose λ can stop
+// the tracer farther away, never beyond the first root); Miss when a step passes tmax (proven: no
 // root on [tmin, tmax] given λ); Unknown when the budget is spent (notably for tmax = +inf with
 // no surface ahead: the tracer never proves a miss to infinity), when g is undefined at a point,
 // or when λ is NaN, negative or infinite. Each step costs one interval evaluation (evals.interval).
