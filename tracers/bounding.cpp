@@ -10,6 +10,7 @@
 
 #include "expr/derived.h"
 #include "expr/eval.h"
+#include "solvers/certified.h"
 #include "tracers/octree.h"
 #include "tracers/sphere_trace.h"
 
@@ -354,6 +355,132 @@ Interval BoundedScene::distance(const Box& p, std::uint64_t& leaf_evals, double 
         return unknown_distance();
     };
     return visit(visit, root_, kInf);
+}
+
+BoundedScene::Restricted BoundedScene::restrict_to(const Ray& ray) const {
+    thread_local std::vector<expr::Instr> ssa;
+    ssa.clear();
+    Restricted out;
+    // A node's restriction: +1 / −1 (constant sign on the segment) or 0 with the SSA index of its
+    // value. Recursion depth as in distance().
+    struct Part {
+        int sign;
+        std::uint32_t at;
+    };
+    auto emit = [&](expr::Op op, std::uint32_t a, std::uint32_t b) {
+        const auto i = static_cast<std::uint32_t>(ssa.size());
+        ssa.push_back(expr::Instr{op, i, a, b, 0.0});
+        return i;
+    };
+    auto visit = [&](auto& self, std::uint32_t k) -> Part {
+        const Node& n = nodes_[k];
+        Box box;
+        const bool empty = !(n.lo[0] <= n.hi[0] && n.lo[1] <= n.hi[1] && n.lo[2] <= n.hi[2]);
+        if (!empty) {
+            for (int i = 0; i < 3; ++i) box[i] = Interval(n.lo[i], n.hi[i]);
+        }
+        if (empty || ray_box(ray, box).is_empty() || ray_box(ray, box).upper() < ray.tmin ||
+            ray_box(ray, box).lower() > ray.tmax) {
+            return {+1, 0};  // the solid's box is missed: f > 0 on the whole segment
+        }
+        switch (n.kind) {
+            case Kind::Leaf: {
+                const std::vector<expr::Instr>& leaf = leaves_[n.a].tape.ssa();
+                const auto offset = static_cast<std::uint32_t>(ssa.size());
+                for (expr::Instr in : leaf) {
+                    const int arity = expr::arity(in.op);
+                    if (arity >= 1) in.a += offset;
+                    if (arity == 2) in.b += offset;
+                    in.out += offset;
+                    ssa.push_back(in);
+                }
+                ++out.leaves;
+                return {0, static_cast<std::uint32_t>(ssa.size() - 1)};
+            }
+            case Kind::Neg: {
+                const Part c = self(self, n.a);
+                if (c.sign != 0) return {-c.sign, 0};
+                return {0, emit(expr::Op::Neg, c.at, 0)};
+            }
+            case Kind::Min:
+            case Kind::Max: {
+                // min: a positive operand drops out, a negative one decides; max: the reverse.
+                const int absorbing = n.kind == Kind::Min ? -1 : +1;
+                const Part a = self(self, n.a);
+                if (a.sign == absorbing) return a;
+                const Part b = self(self, n.b);
+                if (b.sign == absorbing) return b;
+                if (a.sign != 0) return b;
+                if (b.sign != 0) return a;
+                return {0, emit(n.kind == Kind::Min ? expr::Op::Min : expr::Op::Max, a.at, b.at)};
+            }
+        }
+        return {+1, 0};
+    };
+    const Part root = visit(visit, root_);
+    out.sign = root.sign;
+    if (root.sign == 0) {
+        // Keep what the root's value depends on (an operand absorbed by a constant sign may have
+        // emitted instructions first); renumbered, the root comes last.
+        std::vector<bool> live(root.at + 1, false);
+        live[root.at] = true;
+        for (std::uint32_t j = root.at + 1; j-- > 0;) {
+            if (!live[j]) continue;
+            const int arity = expr::arity(ssa[j].op);
+            if (arity >= 1) live[ssa[j].a] = true;
+            if (arity == 2) live[ssa[j].b] = true;
+        }
+        std::vector<std::uint32_t> renamed(root.at + 1, 0);
+        std::vector<expr::Instr> kept;
+        for (std::uint32_t j = 0; j <= root.at; ++j) {
+            if (!live[j]) continue;
+            expr::Instr in = ssa[j];
+            const int arity = expr::arity(in.op);
+            if (arity >= 1) in.a = renamed[in.a];
+            if (arity == 2) in.b = renamed[in.b];
+            in.out = renamed[j] = static_cast<std::uint32_t>(kept.size());
+            kept.push_back(in);
+        }
+        out.tape = expr::Tape::from_ssa(std::move(kept));
+    }
+    return out;
+}
+
+RayResult bounded_certified(const BoundedScene& scene, const Ray& r, std::uint64_t budget) {
+    const Interval in = ray_box(r, scene.bounds());
+    RayResult out;
+    out.status = Status::Miss;
+    EvalCounts used;
+    auto part = [&](double lo, double hi, bool within) {
+        // Outside parts share their end point with the inside part: only longer ones count.
+        if (!(within ? lo <= hi : lo < hi) || out.status != Status::Miss) return;
+        Ray seg = r;
+        seg.tmin = lo;
+        seg.tmax = hi;
+        solvers::CertifiedOptions opt;
+        opt.budget = budget > used.total() ? budget - used.total() : 0;
+        if (!within) {
+            out = solvers::certified_first_root(scene.tape(), seg, opt);
+        } else {
+            const BoundedScene::Restricted f = scene.restrict_to(seg);
+            if (f.sign != 0) {
+                out.status = Status::Miss;  // f has one sign on the whole segment
+            } else {
+                out = solvers::certified_first_root(f.tape, seg, opt);
+            }
+        }
+        used += out.evals;
+        if (out.status == Status::Unknown) out.t_hi = r.tmax;  // nothing is known past it
+    };
+    if (in.is_empty() || in.upper() < r.tmin || in.lower() > r.tmax) {
+        part(r.tmin, r.tmax, false);
+    } else {
+        part(r.tmin, in.lower(), false);
+        part(std::max(r.tmin, in.lower()), std::min(r.tmax, in.upper()), true);
+        part(in.upper(), r.tmax, false);
+    }
+    out.evals = used;
+    return out;
 }
 
 RayResult bounded_sphere_trace(const BoundedScene& scene, const Ray& r, const TraceOptions& opt) {

@@ -61,6 +61,19 @@ class BoundedScene {
     /// Thread-safe.
     Interval distance(const Box& p, std::uint64_t& leaf_evals, double rho = 0) const;
 
+    /// f restricted to one ray's segment [ray.tmin, ray.tmax] (inside the bounds): a leaf whose
+    /// box the segment provably misses is positive all along it, so it is dropped from a union
+    /// (min(f, g) has g's zeros and sign where f > 0) and makes an intersection positive (max(f, g)
+    /// > 0). The result has the zeros and the sign of g(t) = f(o + t·d) on the segment — what a
+    /// certified root finder needs — with only the leaves the segment meets. `sign` is +1 or −1
+    /// when no leaf is left (f has that sign on the whole segment; `tape` is empty), else 0.
+    struct Restricted {
+        int sign = 0;
+        expr::Tape tape;
+        std::size_t leaves = 0;  ///< leaves kept
+    };
+    Restricted restrict_to(const Ray& ray) const;
+
     /// The bounds everything holds in.
     const Box& bounds() const { return bounds_; }
     /// The full tape of f (for degenerate rays and outside the bounds).
@@ -102,6 +115,12 @@ class BoundedScene {
     std::uint32_t root_ = 0;
     double build_seconds_ = 0;
 };
+
+/// The certified solver (solvers/certified.h) on the segment of the ray inside the bounds, with
+/// the tape restricted to the leaves the segment meets (restrict_to); the parts of the ray before
+/// and after the bounds on the full tape. Certified: the restricted tape has the same zeros and
+/// sign along the segment.
+RayResult bounded_certified(const BoundedScene& scene, const Ray& ray, std::uint64_t budget);
 
 /// Sphere tracing with the scene's bounding volumes inside its bounds (Hart 1996): the ray is
 /// clipped to the bounds; each step evaluates distance() once (evals.interval) with

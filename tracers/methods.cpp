@@ -200,6 +200,15 @@ const Entry kMethods[] = {
      [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
          return make_clipped_tracer(tape, o, &segment_trace);
      }},
+    {"certified-bvh",
+     "certified, with bounding volumes: inside the bounds (default [-2,2]^3) each ray's tape "
+     "keeps only the primitives whose boxes its segment meets (same zeros and sign along it), "
+     "outside them the full tape; certified; knobs: --budget, --bounds",
+     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+         auto scene = std::make_shared<const BoundedScene>(tape, octree_bounds(o));
+         const std::uint64_t budget = o.budget;
+         return [scene, budget](const Ray& ray) { return bounded_certified(*scene, ray, budget); };
+     }},
     {"certified-octree",
      "certified, accelerated by an octree over the bounds (default [-2,2]^3, --depth 5): empty and "
      "full cells skipped, each ambiguous cell solved with its pruned tape; the ray outside the "
@@ -229,7 +238,7 @@ const Entry kMethods[] = {
      "complements down to its primitives, each with a box (interval slab contraction) and a "
      "Lipschitz bound, unions as a BVH; a primitive far from the point is bounded by the "
      "distance to its box. Inside the bounds (default [-2,2]^3); before and after them, segment "
-     "tracing. Approximate, never steps past the first root; knobs: "
+     "tracing; approximate, never steps past the first root; knobs: "
      "--epsilon, --budget, --bounds",
      [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
          auto scene = std::make_shared<const BoundedScene>(tape, octree_bounds(o));

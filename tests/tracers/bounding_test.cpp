@@ -11,6 +11,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -20,6 +22,7 @@
 #include "expr/tape.h"
 #include "solvers/certified.h"
 #include "tests/support/generators.h"
+#include "tests/support/stress_cases.h"
 #include "tracers/methods.h"
 
 namespace certray::tracers {
@@ -171,6 +174,60 @@ RC_GTEST_PROP(BoundingProperty, NeverPastTheCertifiedFirstRootNorMissingAProvenO
     }
 }
 
+RC_GTEST_PROP(BoundingProperty, RestrictedCertifiedAgreesWithTheFullTape, ()) {
+    // certified-bvh answers from a tape with only the leaves each ray meets: it must never
+    // contradict the certified solver on the full tape (hit against miss, disjoint enclosures).
+    const expr::Tape tape = *gen_csg();
+    const BoundedScene scene(tape, cube(-2, 2));
+    for (int k = 0; k < 8; ++k) {
+        const Ray ray = *testing::gen_ray();
+        const RayResult got = bounded_certified(scene, ray, 20000);
+        const RayResult ref = solvers::certified_first_root(tape, ray, {});
+        if (got.status == Status::Unknown || ref.status == Status::Unknown) continue;
+        RC_ASSERT(got.status == ref.status);
+        if (got.status == Status::Hit) {
+            RC_ASSERT(got.t_lo <= ref.t_hi);
+            RC_ASSERT(ref.t_lo <= got.t_hi);
+        }
+    }
+}
+
+TEST(Bounding, RestrictionKeepsOnlyTheLeavesTheSegmentMeets) {
+    // Three unit spheres on the x axis; a ray along y through the middle one meets one leaf.
+    const std::vector<Sphere> s{{{-3, 0, 0}, 1}, {{0, 0, 0}, 1}, {{3, 0, 0}, 1}};
+    const BoundedScene scene(union_of(s), cube(-5, 5));
+    Ray ray;
+    ray.o = {0, -4, 0};
+    ray.d = {0, 1, 0};
+    ray.tmin = 0;
+    ray.tmax = 8;
+    const BoundedScene::Restricted r = scene.restrict_to(ray);
+    EXPECT_EQ(r.sign, 0);
+    EXPECT_EQ(r.leaves, 1u);
+    const RayResult hit = bounded_certified(scene, ray, 20000);
+    ASSERT_EQ(hit.status, Status::Hit);
+    EXPECT_LE(hit.t_lo, 3.0);  // the root y = −1: t = 3
+    EXPECT_GE(hit.t_hi, 3.0);
+    // Above all three: no leaf left, f > 0 on the whole segment.
+    ray.o = {0, -4, 2.5};
+    EXPECT_EQ(scene.restrict_to(ray).sign, +1);
+    EXPECT_EQ(bounded_certified(scene, ray, 20000).status, Status::Miss);
+}
+
+TEST(Bounding, CertifiedBvhOnTheStressSuite) {
+    // Every case of scenes/stress/cases.csv: never a wrong answer (the rules of stress_test.cpp).
+    std::map<std::string, std::unique_ptr<expr::Tape>> tapes;
+    std::map<std::string, std::unique_ptr<BoundedScene>> scenes;
+    for (const testing::StressCase& c : testing::read_stress_cases()) {
+        if (!tapes.count(c.scene)) {
+            tapes[c.scene] = std::make_unique<expr::Tape>(
+                expr::load_graph_file(testing::stress_dir() + c.scene));
+            scenes[c.scene] = std::make_unique<BoundedScene>(*tapes[c.scene], cube(-2, 2));
+        }
+        testing::check_stress_case(c, bounded_certified(*scenes[c.scene], c.ray, 20000), false);
+    }
+}
+
 TEST(Bounding, FindsTheSpheresOfTheTenThousandSphereCsg) {
     // scenes/stress/deep_csg.expr: spheres of radius 0.004 centred at (0.01 i, 0.01 j, 0).
     const expr::Tape t(expr::load_graph_file(CERTRAY_SOURCE_DIR "/scenes/stress/deep_csg.expr"));
@@ -197,6 +254,12 @@ TEST(Bounding, FindsTheSpheresOfTheTenThousandSphereCsg) {
     const RayResult r = bvh(down);
     ASSERT_EQ(r.status, Status::Hit);
     EXPECT_NEAR(r.t, 1 - 0.004, 1e-5);
+    // Certified: the root 1 − 0.004 (z = −0.004 on the sphere at (0.25, 0.73, 0)) enclosed.
+    const RayResult c = make_method("certified-bvh", t, MethodOptions{})(down);
+    ASSERT_EQ(c.status, Status::Hit);
+    EXPECT_LE(c.t_lo, 0.996);
+    EXPECT_GE(c.t_hi, 0.996);
+    EXPECT_LT(c.t_hi - c.t_lo, 1e-12);
 }
 
 TEST(Bounding, TheMethodTracesOutsideTheBoundsToo) {
