@@ -4,18 +4,26 @@
 // Scenes: unit sphere, torus (R = 1, r = 0.25), Barth sextic (.vm), a union of 1,001 spheres (the
 // "molecule" of the Lipschitz-pruning paper, read from its JSON; a deterministic 1,000-sphere union
 // when the file is absent) and prospero (.vm, 2D). Measured in one process:
-// (a) `batch/<scene>`: Evaluator<Batch> over 256 points (4 walks of 64 lanes); `double/<scene>`:
-//     Evaluator<double> point by point; `native/<scene>`: the same function hand-written in C++
-//     and compiled with the same flags (not for prospero);
+// (a) `batch/<scene>`: Evaluator<Batch> over 256 points (4 walks of 64 lanes) with the copy of the
+//     walk chosen for this CPU (expr/eval_batch.h); `double/<scene>`: Evaluator<double> point by
+//     point; `native/<scene>`: the same function hand-written in C++ and compiled with the same
+//     flags (generic x86-64; not for prospero);
+// (a') `batch-<isa>/<scene>`: the batch walk forced to each copy the CPU runs (baseline SSE2,
+//     AVX2, AVX-512), and `native-avx2/<scene>`: the hand-written function compiled for AVX2
+//     (target attribute, no FMA: the batch's own instruction set);
 // (b) `interval/<scene>`, `dual/<scene>`, `idual/<scene>`: Evaluator<Interval> on boxes of side
 //     2e-3, Evaluator<Dual<double,3>> at points, Evaluator<Dual<Interval,3>> on the boxes;
 // (c) after the benchmarks, outside Google Benchmark (skipped with --no_prune): prune() on boxes of
 //     decreasing side around a point of the surface, with the tape lengths and the CPU time of one
-//     interval evaluation of the full and the pruned tape.
+//     interval evaluation of the full and the pruned tape;
+// (d) outside Google Benchmark (skipped with --no_ops): the batch walk's cost per instruction on
+//     synthetic chains of 1,000 instructions of one kind, per copy (what a Const, a unary op, a
+//     result that must be stored cost).
 // The custom main prints the tables (CPU time; ratios from times of this process).
 // Results and the command that produced them: docs/benchmarks.md, "Expression evaluation (issue
 // 3)".
 #include <benchmark/benchmark.h>
+#include <immintrin.h>
 #include <time.h>
 
 #include <array>
@@ -25,6 +33,7 @@
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -34,6 +43,7 @@
 #include "expr/builder.h"
 #include "expr/derived.h"
 #include "expr/eval.h"
+#include "expr/eval_batch.h"
 #include "expr/load.h"
 #include "expr/prune.h"
 #include "expr/tape.h"
@@ -60,27 +70,34 @@ struct Scene {
     bool planar = false;     ///< 2D: z = 0
     double lo = -1, hi = 1;  ///< sampling cube (square when planar)
     Native native = nullptr;
+    Native native_avx2 = nullptr;     ///< the same function compiled for AVX2 (no FMA)
     std::array<double, 3> surface{};  ///< a point on (or within 1e-15 of) f = 0
 };
 
 // ---- hand-written functions
 // ----------------------------------------------------------------------
 
-__attribute__((noinline)) void native_sphere(const double* x, const double* y, const double* z,
-                                             double* out, int n) {
+// native_<f>: compiled with the project's flags (generic x86-64; √ stays a scalar sqrtsd, since
+// it may set errno). native_<f>_avx2: the same function on the batch walk's instruction set,
+// AVX2 without FMA — Barth's body recompiled with target("avx2") (g++ vectorises it), the √
+// scenes written with AVX intrinsics (vsqrtpd; the compiler would not vectorise std::sqrt), in
+// the scalar version's order of operations: the strongest hand-written reference.
+
+[[gnu::always_inline]] inline void sphere_body(const double* x, const double* y, const double* z,
+                                               double* out, int n) {
     for (int i = 0; i < n; ++i) out[i] = std::sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i]) - 1.0;
 }
 
-__attribute__((noinline)) void native_torus(const double* x, const double* y, const double* z,
-                                            double* out, int n) {
+[[gnu::always_inline]] inline void torus_body(const double* x, const double* y, const double* z,
+                                              double* out, int n) {
     for (int i = 0; i < n; ++i) {
         const double q = std::sqrt(x[i] * x[i] + y[i] * y[i]) - 1.0;
         out[i] = std::sqrt(q * q + z[i] * z[i]) - 0.25;
     }
 }
 
-__attribute__((noinline)) void native_barth(const double* x, const double* y, const double* z,
-                                            double* out, int n) {
+[[gnu::always_inline]] inline void barth_body(const double* x, const double* y, const double* z,
+                                              double* out, int n) {
     constexpr double p2 = 2.618033988749895, c = 4.23606797749979;
     for (int i = 0; i < n; ++i) {
         const double x2 = x[i] * x[i], y2 = y[i] * y[i], z2 = z[i] * z[i];
@@ -96,8 +113,8 @@ Spheres g_molecule;
 
 /// Sphere-outer, point-inner: the inner loop runs over the points and vectorises, as the batch
 /// evaluator does (the point-outer order would be a scalar min reduction).
-__attribute__((noinline)) void native_molecule(const double* x, const double* y, const double* z,
-                                               double* out, int n) {
+[[gnu::always_inline]] inline void molecule_body(const double* x, const double* y, const double* z,
+                                                 double* out, int n) {
     const Spheres& s = g_molecule;
     for (int i = 0; i < n; ++i) out[i] = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < s.r.size(); ++k) {
@@ -108,6 +125,77 @@ __attribute__((noinline)) void native_molecule(const double* x, const double* y,
         }
     }
 }
+
+__attribute__((noinline)) void native_sphere(const double* x, const double* y, const double* z,
+                                             double* out, int n) {
+    sphere_body(x, y, z, out, n);
+}
+__attribute__((noinline)) void native_torus(const double* x, const double* y, const double* z,
+                                            double* out, int n) {
+    torus_body(x, y, z, out, n);
+}
+__attribute__((noinline)) void native_barth(const double* x, const double* y, const double* z,
+                                            double* out, int n) {
+    barth_body(x, y, z, out, n);
+}
+__attribute__((noinline)) void native_molecule(const double* x, const double* y, const double* z,
+                                               double* out, int n) {
+    molecule_body(x, y, z, out, n);
+}
+__attribute__((noinline, target("avx2"))) void native_barth_avx2(const double* x, const double* y,
+                                                                 const double* z, double* out,
+                                                                 int n) {
+    barth_body(x, y, z, out, n);
+}
+
+// The intrinsics versions take n a multiple of 4 (kPoints is).
+#define CERTRAY_AVX2_FN [[gnu::noinline, gnu::target("avx2")]]
+CERTRAY_AVX2_FN void native_sphere_avx2(const double* x, const double* y, const double* z,
+                                        double* out, int n) {
+    const __m256d one = _mm256_set1_pd(1.0);
+    for (int i = 0; i < n; i += 4) {
+        const __m256d X = _mm256_loadu_pd(x + i), Y = _mm256_loadu_pd(y + i),
+                      Z = _mm256_loadu_pd(z + i);
+        const __m256d s = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(X, X), _mm256_mul_pd(Y, Y)),
+                                        _mm256_mul_pd(Z, Z));
+        _mm256_storeu_pd(out + i, _mm256_sub_pd(_mm256_sqrt_pd(s), one));
+    }
+}
+
+CERTRAY_AVX2_FN void native_torus_avx2(const double* x, const double* y, const double* z,
+                                       double* out, int n) {
+    const __m256d one = _mm256_set1_pd(1.0), r = _mm256_set1_pd(0.25);
+    for (int i = 0; i < n; i += 4) {
+        const __m256d X = _mm256_loadu_pd(x + i), Y = _mm256_loadu_pd(y + i),
+                      Z = _mm256_loadu_pd(z + i);
+        const __m256d q = _mm256_sub_pd(
+            _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(X, X), _mm256_mul_pd(Y, Y))), one);
+        const __m256d t = _mm256_add_pd(_mm256_mul_pd(q, q), _mm256_mul_pd(Z, Z));
+        _mm256_storeu_pd(out + i, _mm256_sub_pd(_mm256_sqrt_pd(t), r));
+    }
+}
+
+CERTRAY_AVX2_FN void native_molecule_avx2(const double* x, const double* y, const double* z,
+                                          double* out, int n) {
+    const Spheres& s = g_molecule;
+    const __m256d inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
+    for (int i = 0; i < n; i += 4) _mm256_storeu_pd(out + i, inf);
+    for (std::size_t k = 0; k < s.r.size(); ++k) {
+        const __m256d cx = _mm256_set1_pd(s.cx[k]), cy = _mm256_set1_pd(s.cy[k]),
+                      cz = _mm256_set1_pd(s.cz[k]), r = _mm256_set1_pd(s.r[k]);
+        for (int i = 0; i < n; i += 4) {
+            const __m256d dx = _mm256_sub_pd(_mm256_loadu_pd(x + i), cx),
+                          dy = _mm256_sub_pd(_mm256_loadu_pd(y + i), cy),
+                          dz = _mm256_sub_pd(_mm256_loadu_pd(z + i), cz);
+            const __m256d d2 = _mm256_add_pd(
+                _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+            const __m256d d = _mm256_sub_pd(_mm256_sqrt_pd(d2), r);
+            // certray::min without its NaN rule (no NaN here): (out < d) ? out : d.
+            _mm256_storeu_pd(out + i, _mm256_min_pd(_mm256_loadu_pd(out + i), d));
+        }
+    }
+}
+#undef CERTRAY_AVX2_FN
 
 // ---- scenes
 // --------------------------------------------------------------------------------------
@@ -221,13 +309,30 @@ std::string g_molecule_source;
 
 void make_scenes() {
     const std::string data = CERTRAY_SOURCE_DIR "/tests/data/models/";
-    g_scenes.push_back(
-        {"sphere", sphere_tape(), false, -1.5, 1.5, native_sphere, {0.6, 0.48, 0.64}});
-    g_scenes.push_back({"torus", torus_tape(), false, -1.5, 1.5, native_torus, {0.8, 0.6, 0.25}});
+    g_scenes.push_back({"sphere",
+                        sphere_tape(),
+                        false,
+                        -1.5,
+                        1.5,
+                        native_sphere,
+                        native_sphere_avx2,
+                        {0.6, 0.48, 0.64}});
+    g_scenes.push_back({"torus",
+                        torus_tape(),
+                        false,
+                        -1.5,
+                        1.5,
+                        native_torus,
+                        native_torus_avx2,
+                        {0.8, 0.6, 0.25}});
     {
-        Scene s{"barth", Tape(expr::load_graph_file(data + "algebraic/barth_sextic.vm")),
-                false,   -2.0,
-                2.0,     native_barth,
+        Scene s{"barth",
+                Tape(expr::load_graph_file(data + "algebraic/barth_sextic.vm")),
+                false,
+                -2.0,
+                2.0,
+                native_barth,
+                native_barth_avx2,
                 {}};
         s.surface = surface_point(s.tape, {0, 0, 0}, {2.0, 2.0, 2.0});
         g_scenes.push_back(std::move(s));
@@ -240,16 +345,18 @@ void make_scenes() {
         g_molecule_source = "generated (seed 20261123)";
     }
     {
-        Scene s{"molecule", molecule_tape(g_molecule), false, -1.0, 1.0, native_molecule, {}};
+        Scene s{"molecule",      molecule_tape(g_molecule), false, -1.0, 1.0,
+                native_molecule, native_molecule_avx2,      {}};
         const auto& m = g_molecule;
         s.surface =
             surface_point(s.tape, {m.cx[0], m.cy[0], m.cz[0]}, {m.cx[0] + 1.0, m.cy[0], m.cz[0]});
         g_scenes.push_back(std::move(s));
     }
     {
-        Scene s{
-            "prospero", Tape(expr::load_graph_file(data + "prospero.vm")), true, -1.0, 1.0, nullptr,
-            {}};
+        Scene s{"prospero", Tape(expr::load_graph_file(data + "prospero.vm")),
+                true,       -1.0,
+                1.0,        nullptr,
+                nullptr,    {}};
         s.surface = surface_point(s.tape, {-1.0, 0.1, 0}, {1.0, 0.1, 0});
         g_scenes.push_back(std::move(s));
     }
@@ -291,8 +398,12 @@ Interval around(double v, bool zero) {
 // ---- benchmarks
 // ----------------------------------------------------------------------------------
 
-void bm_batch(benchmark::State& state, const Scene* s) {
+/// The batch walk over the scene's points; `isa` forces a copy of the walk (none: the one chosen
+/// for this CPU).
+void bm_batch_isa(benchmark::State& state, const Scene* s, std::optional<expr::BatchIsa> isa) {
     const Inputs in = make_inputs(*s);
+    const expr::BatchIsa chosen = expr::batch_isa();
+    if (isa) expr::set_batch_isa(*isa);
     Evaluator<Batch> e;
     for (auto _ : state) {
         for (const auto& p : in.batches) {
@@ -300,7 +411,10 @@ void bm_batch(benchmark::State& state, const Scene* s) {
             benchmark::DoNotOptimize(r);
         }
     }
+    expr::set_batch_isa(chosen);
 }
+
+void bm_batch(benchmark::State& state, const Scene* s) { bm_batch_isa(state, s, std::nullopt); }
 
 void bm_double(benchmark::State& state, const Scene* s) {
     const Inputs in = make_inputs(*s);
@@ -313,15 +427,17 @@ void bm_double(benchmark::State& state, const Scene* s) {
     }
 }
 
-void bm_native(benchmark::State& state, const Scene* s) {
+void bm_native_fn(benchmark::State& state, const Scene* s, Native f) {
     const Inputs in = make_inputs(*s);
     std::vector<double> out(kPoints);
     benchmark::DoNotOptimize(out.data());
     for (auto _ : state) {
-        s->native(in.x.data(), in.y.data(), in.z.data(), out.data(), kPoints);
+        f(in.x.data(), in.y.data(), in.z.data(), out.data(), kPoints);
         benchmark::ClobberMemory();
     }
 }
+
+void bm_native(benchmark::State& state, const Scene* s) { bm_native_fn(state, s, s->native); }
 
 void bm_interval(benchmark::State& state, const Scene* s) {
     const Inputs in = make_inputs(*s);
@@ -364,7 +480,8 @@ void bm_idual(benchmark::State& state, const Scene* s) {
 
 /// Evaluations (points, boxes) per pass of each kind.
 int per_pass(const std::string& kind) {
-    return (kind == "batch" || kind == "double" || kind == "native") ? kPoints : kBoxes;
+    return (kind.starts_with("batch") || kind == "double" || kind.starts_with("native")) ? kPoints
+                                                                                         : kBoxes;
 }
 
 /// Keeps CPU ns per evaluation of every run: kind → scene → ns.
@@ -405,6 +522,22 @@ class TableReporter : public benchmark::ConsoleReporter {
                          d = get("double", s.name);
             std::printf("%-10s %6zu %12.3f %12.3f %14.4f %11.2fx %14.4f %11.2fx\n", s.name.c_str(),
                         s.tape.size(), nat, b, b / n, b / nat, d / n, d / nat);
+        }
+        std::printf("batch: the %s copy of the walk (expr/eval_batch.h)\n",
+                    expr::batch_isa_name(expr::batch_isa()));
+        std::printf(
+            "\n(a') The batch walk per copy, CPU ns per op per point; against native-avx2, the "
+            "hand-written\nfunction compiled for AVX2 without FMA (per point; nan: the CPU lacks "
+            "the copy):\n");
+        std::printf("%-10s %6s %15s %15s %12s %14s %18s %18s\n", "scene", "ops", "native-avx2/pt",
+                    "baseline/op/pt", "avx2/op/pt", "avx512/op/pt", "avx2/native-avx2",
+                    "avx512/native-avx2");
+        for (const Scene& s : g_scenes) {
+            const double n = static_cast<double>(s.tape.size());
+            const double nat = get("native-avx2", s.name), b0 = get("batch-baseline", s.name),
+                         b1 = get("batch-avx2", s.name), b2 = get("batch-avx512", s.name);
+            std::printf("%-10s %6zu %15.3f %15.4f %12.4f %14.4f %17.2fx %17.2fx\n", s.name.c_str(),
+                        s.tape.size(), nat, b0 / n, b1 / n, b2 / n, b1 / nat, b2 / nat);
         }
         std::printf("\n(b) One evaluation against one scalar double evaluation (CPU ns, ratio):\n");
         std::printf("%-10s %12s %16s %16s %18s\n", "scene", "double ns", "Interval",
@@ -473,16 +606,91 @@ void print_prune_table() {
     }
 }
 
+// ---- (d) the batch walk per kind of instruction
+// -----------------------------------------------------------------
+
+/// A chain of `links` links of one kind, each reading the previous link's result: the batch walk
+/// keeps that result in registers (except "add, stored": the Fibonacci sum reads each result
+/// twice, so every result is stored).
+Tape chain_tape(const std::string& kind, int links) {
+    expr::Graph g;
+    auto [x, y, z] = expr::vars(g);
+    expr::Expr e = x, before = y;
+    for (int i = 0; i < links; ++i) {
+        if (kind == "add") e = e + y;
+        if (kind == "mul") e = e * y;
+        if (kind == "min") e = min(e, y);
+        if (kind == "square") e = square(e);
+        if (kind == "sqrt") e = sqrt(e);
+        if (kind == "const + add") e = e + (1.0 + std::ldexp(i, -20));  // distinct constants
+        if (kind == "sin") e = sin(e);
+        if (kind == "add, stored") {
+            const expr::Expr next = e + before;
+            before = e;
+            e = next;
+        }
+    }
+    g.set_output(e.id);
+    return Tape(g);
+}
+
+void print_ops_table() {
+    constexpr int kLinks = 1000;
+    const std::vector<std::string> kinds = {"add",  "mul",         "min", "square",
+                                            "sqrt", "const + add", "sin", "add, stored"};
+    std::printf(
+        "\n(d) The batch walk per kind of instruction: chains of %d links, each reading the "
+        "previous result\n(x in [1, 2], y in [0.999, 1.001]); CPU ns per link per point (nan: the "
+        "CPU lacks the copy):\n",
+        kLinks);
+    std::printf("%-12s %10s %10s %10s %10s\n", "link", "instr", "baseline", "avx2", "avx512");
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> ux(1.0, 2.0), uy(0.999, 1.001);
+    std::vector<std::array<Batch, 3>> points(kPoints / kBatch);
+    for (auto& p : points) {
+        for (int i = 0; i < kBatch; ++i) {
+            p[0][i] = ux(rng);
+            p[1][i] = uy(rng);
+            p[2][i] = 0.0;
+        }
+    }
+    const expr::BatchIsa chosen = expr::batch_isa();
+    for (const std::string& kind : kinds) {
+        const Tape t = chain_tape(kind, kLinks);
+        const double per_link = static_cast<double>(t.size() - 2) / kLinks;  // less x and y
+        std::printf("%-12s %10.2f", kind.c_str(), per_link);
+        for (expr::BatchIsa isa :
+             {expr::BatchIsa::Baseline, expr::BatchIsa::Avx2, expr::BatchIsa::Avx512}) {
+            if (!expr::set_batch_isa(isa)) {
+                std::printf(" %10s", "nan");
+                continue;
+            }
+            Evaluator<Batch> e;
+            const double ns = time_ns([&] {
+                for (const auto& p : points) {
+                    Batch r = e(t, p);
+                    benchmark::DoNotOptimize(r);
+                }
+            });
+            std::printf(" %10.4f", ns / kPoints / kLinks);
+        }
+        std::printf("\n");
+    }
+    expr::set_batch_isa(chosen);
+}
+
 }  // namespace
 }  // namespace certray
 
 int main(int argc, char** argv) {
     using namespace certray;
-    // --no_prune (ours, removed before Google Benchmark sees the arguments): skip table (c).
-    bool prune_table = true;
+    // --no_prune, --no_ops (ours, removed before Google Benchmark sees the arguments): skip
+    // table (c), table (d).
+    bool prune_table = true, ops_table = true;
     for (int i = 1; i < argc; ++i) {
-        if (std::string(argv[i]) == "--no_prune") {
-            prune_table = false;
+        const std::string arg = argv[i];
+        if (arg == "--no_prune" || arg == "--no_ops") {
+            (arg == "--no_prune" ? prune_table : ops_table) = false;
             for (int j = i; j + 1 < argc; ++j) argv[j] = argv[j + 1];
             --argc;
             --i;
@@ -492,7 +700,19 @@ int main(int argc, char** argv) {
     for (const Scene& s : g_scenes) {
         const Scene* p = &s;
         if (s.native) benchmark::RegisterBenchmark(("native/" + s.name).c_str(), bm_native, p);
+        if (s.native_avx2 && __builtin_cpu_supports("avx2")) {
+            benchmark::RegisterBenchmark(("native-avx2/" + s.name).c_str(), bm_native_fn, p,
+                                         s.native_avx2);
+        }
         benchmark::RegisterBenchmark(("batch/" + s.name).c_str(), bm_batch, p);
+        for (expr::BatchIsa isa :
+             {expr::BatchIsa::Baseline, expr::BatchIsa::Avx2, expr::BatchIsa::Avx512}) {
+            if (!expr::batch_isa_supported(isa)) continue;
+            const std::string name =
+                std::string("batch-") + expr::batch_isa_name(isa) + "/" + s.name;
+            benchmark::RegisterBenchmark(name.c_str(), bm_batch_isa, p,
+                                         std::optional<expr::BatchIsa>(isa));
+        }
         benchmark::RegisterBenchmark(("double/" + s.name).c_str(), bm_double, p);
         benchmark::RegisterBenchmark(("interval/" + s.name).c_str(), bm_interval, p);
         benchmark::RegisterBenchmark(("dual/" + s.name).c_str(), bm_dual, p);
@@ -510,6 +730,7 @@ int main(int argc, char** argv) {
     benchmark::RunSpecifiedBenchmarks(&reporter);
     reporter.print_tables();
     if (prune_table) print_prune_table();
+    if (ops_table) print_ops_table();
     benchmark::Shutdown();
     return 0;
 }

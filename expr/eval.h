@@ -9,12 +9,17 @@
 #pragma once
 
 #include <array>
+#include <type_traits>
 #include <vector>
 
 #include "expr/tape.h"
 #include "interval/interval.h"
 #include "interval/number.h"
 #include "interval/poly.h"
+
+namespace certray {
+struct Batch;  // interval/batch.h: kBatch doubles in lock-step
+}  // namespace certray
 
 namespace certray::expr {
 
@@ -127,6 +132,10 @@ void run(const std::vector<Instr>& instrs, const std::array<T, 3>& p, T* r, Obse
     }
 }
 
+/// Evaluator<Batch>'s walk (expr/eval_batch.cpp): leaves in r[tape.output()] what run<Batch>
+/// would, lane i bit for bit run<double> at lane i of p[0..2]; vectorised for the running CPU.
+void run_batch(const Tape& tape, const Batch* p, Batch* r);
+
 }  // namespace detail
 
 /// Evaluates tapes over T, reusing its register file: no allocation once the largest tape has
@@ -140,10 +149,15 @@ class Evaluator {
     /// f(p) computed in T (for enclosures: an enclosure of f over the box p).
     T operator()(const Tape& tape, const std::array<T, 3>& p) {
         if (regs_.size() < tape.registers()) regs_.resize(tape.registers());
-        [[maybe_unused]] typename Fast<T>::Scope scope;
-        const std::array<Inner, 3> q{Fast<T>::in(p[0]), Fast<T>::in(p[1]), Fast<T>::in(p[2])};
-        detail::run<Inner>(tape.instrs(), q, regs_.data());
-        return Fast<T>::out(regs_[tape.output()]);
+        if constexpr (std::is_same_v<T, Batch>) {
+            detail::run_batch(tape, p.data(), regs_.data());
+            return regs_[tape.output()];
+        } else {
+            [[maybe_unused]] typename Fast<T>::Scope scope;
+            const std::array<Inner, 3> q{Fast<T>::in(p[0]), Fast<T>::in(p[1]), Fast<T>::in(p[2])};
+            detail::run<Inner>(tape.instrs(), q, regs_.data());
+            return Fast<T>::out(regs_[tape.output()]);
+        }
     }
 
   private:

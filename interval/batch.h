@@ -7,7 +7,11 @@
 // bit); exp, log, sin and cos call the libm function per lane, because Eigen's vectorised versions
 // are polynomial approximations that differ from libm in the last bits.
 // Use: expr::Evaluator<Batch> runs a tape over 64 points per walk, amortising the dispatch of each
-// instruction over the lanes (docs/benchmarks.md, "Expression evaluation (issue 3)").
+// instruction over the lanes. It does not go through these operators: its walk is
+// expr/eval_batch.cpp, one copy per instruction set (SSE2, AVX2, AVX-512, chosen at run time,
+// expr/eval_batch.h) under the same contract; the operators serve generic code (detail::run<Batch>)
+// and make Batch a Number. Batch is 64-byte aligned so that no vector load straddles a cache line
+// (docs/benchmarks.md, "Expression evaluation (issue 3)").
 #pragma once
 
 #include <Eigen/Core>
@@ -31,8 +35,9 @@ struct BatchExpr {
     E e;
 };
 
-/// kBatch doubles; each operation acts lane by lane. A small value type with a public array.
-struct Batch {
+/// kBatch doubles; each operation acts lane by lane. A small value type with a public array,
+/// aligned to a cache line.
+struct alignas(64) Batch {
     using Array = Eigen::Array<double, kBatch, 1>;
 
     /// The lanes.
