@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -493,20 +494,30 @@ RayResult bounded_sphere_trace(const BoundedScene& scene, const Ray& r, const Tr
     ray.tmax = std::min(ray.tmax, in.upper());
     if (!(ray.tmin <= ray.tmax)) return miss;
     std::uint64_t leaf_evals = 0;
-    double previous = kInf;
-    auto distance = [&](double t) {
-        // o + t·d with one rounding (fma), then one double outward: encloses the exact point.
+    // ρ of the first point: the margin (a local bound is tried wherever the box's λ gives less
+    // than half of it); then twice the previous bound.
+    double previous = scene.margin() / 2;
+    auto distance = [&](double t, EvalCounts&) {
         Box p;
         for (int i = 0; i < 3; ++i) {
             const double x = std::fma(t, ray.d[i], ray.o[i]);
             p[i] = Interval(std::nextafter(x, -kInf), std::nextafter(x, kInf));
         }
-        const double rho = previous < kInf ? std::max(16 * opt.epsilon, 2 * previous) : 0.0;
+        const double rho = std::max(16 * opt.epsilon, 2 * previous);
         const Interval d = scene.distance(p, leaf_evals, rho);
         if (d.defined && !d.is_empty()) previous = detail::mignitude(d);
         return d;
     };
-    return detail::trace_distance(distance, scene.tape(), ray, opt, 0.0);
+    // The hit's sanity check on the tape restricted to the leaves this segment meets (built once,
+    // on the first candidate hit): near its zeros it is f (same zeros and sign along the segment).
+    std::optional<BoundedScene::Restricted> restricted;
+    auto estimate = [&](double t, EvalCounts& evals) {
+        if (!restricted) restricted = scene.restrict_to(ray);
+        if (restricted->sign != 0) return kInf;  // f has one sign on the whole segment
+        ++evals.gradient;
+        return detail::first_order_distance(restricted->tape, ray, t);
+    };
+    return detail::trace_distance(distance, estimate, scene.tape(), ray, opt, 0.0);
 }
 
 }  // namespace certray::tracers

@@ -81,6 +81,8 @@ class BoundedScene {
     /// Number of leaves and of tree nodes.
     std::size_t leaves() const { return leaves_.size(); }
     std::size_t nodes() const { return nodes_.size(); }
+    /// Nodes closer than this to the query point are evaluated (scene units).
+    double margin() const { return margin_; }
     /// Wall time of the build in seconds.
     double build_seconds() const { return build_seconds_; }
 
@@ -124,7 +126,8 @@ RayResult bounded_certified(const BoundedScene& scene, const Ray& ray, std::uint
 
 /// Sphere tracing with the scene's bounding volumes inside its bounds (Hart 1996): the ray is
 /// clipped to the bounds; each step evaluates distance() once (evals.interval) with
-/// rho = max(16·epsilon, 2·the previous distance) (local bounds where the box's λ is loose).
+/// rho = max(16·epsilon, 2·the previous distance), the margin at the first point (local bounds
+/// where the box's λ is loose).
 /// Same answers and guarantee as sphere_trace. The ray outside the bounds is the caller's.
 RayResult bounded_sphere_trace(const BoundedScene& scene, const Ray& ray,
                                const TraceOptions& options);

@@ -16,12 +16,27 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 namespace detail {
 
+std::array<Interval, 3> point_box(const Ray& ray, double t) {
+    // o + t·d with one rounding (fma), then one double outward on each side — unless the sum is
+    // exact (the product's error by fma, the sum's by TwoSum, both zero): then the point itself.
+    std::array<Interval, 3> p;
+    for (int i = 0; i < 3; ++i) {
+        const double x = std::fma(t, ray.d[i], ray.o[i]);
+        const double prod = t * ray.d[i];
+        bool exact = std::isfinite(x) && std::fma(t, ray.d[i], -prod) == 0;
+        if (exact) {
+            const double s = prod + ray.o[i];
+            const double bb = s - prod;
+            exact = s == x && (prod - (s - bb)) + (ray.o[i] - bb) == 0;
+        }
+        p[i] = exact ? Interval(x) : Interval(std::nextafter(x, -kInf), std::nextafter(x, kInf));
+    }
+    return p;
+}
+
 Interval g_at(const expr::Tape& tape, const Ray& ray, double t) {
     thread_local expr::Evaluator<Interval> eval;
-    std::array<Interval, 3> p;
-    const Interval tt(t);
-    for (int i = 0; i < 3; ++i) p[i] = Interval(ray.o[i]) + tt * Interval(ray.d[i]);
-    return eval(tape, p);
+    return eval(tape, point_box(ray, t));
 }
 
 double mignitude(const Interval& v) {

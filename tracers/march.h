@@ -41,6 +41,9 @@ namespace detail {
 /// evaluator: no allocation once warm.
 Interval g_at(const expr::Tape& tape, const Ray& ray, double t);
 
+/// A box of two doubles per axis around o + t·d at the exact real t (fma, one double outward).
+std::array<Interval, 3> point_box(const Ray& ray, double t);
+
 /// min{|x| : x ∈ v}, the mignitude (0 if v contains 0); NaN if v is empty.
 double mignitude(const Interval& v);
 

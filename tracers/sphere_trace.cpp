@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "expr/derived.h"
+#include "expr/eval.h"
 
 namespace certray::tracers {
 
@@ -17,22 +18,62 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// The signed distance bound |g|/λ at t from the tape and a global λ (space units).
-Interval tape_distance(const expr::Tape& tape, const Ray& ray, double lambda, double t) {
-    const Interval v = detail::g_at(tape, ray, t);
-    if (v.is_empty() || !v.defined || lambda != 0) return v / Interval(lambda);
-    // λ = 0: g is constant; its sign decides everything.
-    if (v.lower() > 0) return Interval(kInf);
-    if (v.upper() < 0) return Interval(-kInf);
-    return v;
+/// The signed distance bound |g|/λ at t from the tape and a global λ (space units). Where it
+/// falls below epsilon — where the tracer would stop — and g is certainly not 0, it is checked
+/// against a local λ over the point's box inflated by ρ = 16·epsilon: min(|g|/λ_local, ρ) is a
+/// distance bound too (a surface point within ρ is reached inside that box; a farther one is
+/// farther than ρ), and the larger bound is kept. So a global λ that is merely loose (a chain of
+/// smooth unions: 10¹⁷⁰) no longer stops the tracer far from any surface; it crawls and ends
+/// unknown instead of answering a false hit. Counted as one gradient evaluation.
+Interval tape_distance(const expr::Tape& tape, const Ray& ray, double lambda, double t,
+                       double epsilon, EvalCounts& evals) {
+    const std::array<Interval, 3> p = detail::point_box(ray, t);
+    thread_local expr::Evaluator<Interval> eval;
+    const Interval v = eval(tape, p);
+    if (v.is_empty() || !v.defined) return v;
+    if (lambda == 0) {  // g is constant; its sign decides everything
+        if (v.lower() > 0) return Interval(kInf);
+        if (v.upper() < 0) return Interval(-kInf);
+        return v;
+    }
+    Interval d = v / Interval(lambda);
+    if (detail::mignitude(d) < epsilon && !contains(v, 0.0)) {
+        const double rho = 16 * epsilon;
+        std::array<Interval, 3> local;
+        for (int i = 0; i < 3; ++i) {
+            local[i] = Interval(std::nextafter(p[i].lower() - rho, -kInf),
+                                std::nextafter(p[i].upper() + rho, kInf));
+        }
+        const double lam = expr::lipschitz_bound(tape, local);
+        ++evals.gradient;
+        if (lam > 0 && lam < lambda) {
+            const Interval q = v / Interval(lam);
+            const Interval near =
+                q.lower() > 0 ? Interval(std::min(q.lower(), rho), std::min(q.upper(), rho))
+                              : Interval(std::max(q.lower(), -rho), std::max(q.upper(), -rho));
+            if (detail::mignitude(near) > detail::mignitude(d)) d = near;
+        }
+    }
+    return d;
 }
 
 }  // namespace
 
 namespace detail {
 
-RayResult trace_distance(const DistanceAt& distance, const expr::Tape& tape, const Ray& ray,
-                         const TraceOptions& opt, double kappa) {
+double first_order_distance(const expr::Tape& tape, const Ray& ray, double t) {
+    std::array<double, 3> p;
+    for (int i = 0; i < 3; ++i) p[i] = std::fma(t, ray.d[i], ray.o[i]);
+    const Dual<double, 3> g = expr::gradient(tape, p);
+    if (g.a == 0) return 0;
+    const double n = std::sqrt(g.v[0] * g.v[0] + g.v[1] * g.v[1] + g.v[2] * g.v[2]);
+    const double e = std::fabs(g.a) / n;
+    return std::isnan(e) ? kInf : e;
+}
+
+RayResult trace_distance(const DistanceAt& distance, const EstimateAt& estimate,
+                         const expr::Tape& tape, const Ray& ray, const TraceOptions& opt,
+                         double kappa) {
     RayResult r;
     auto unknown = [&](double lo) {
         r.status = Status::Unknown;
@@ -50,7 +91,7 @@ RayResult trace_distance(const DistanceAt& distance, const expr::Tape& tape, con
     bool pending = false;  // the step into t was over-relaxed and is not yet verified
     while (true) {
         if (r.evals.total() >= opt.budget) return unknown(pending ? t_prev : t);
-        const Interval v = distance(t);  // space units, sign of g
+        const Interval v = distance(t, r.evals);  // space units, sign of g
         ++r.evals.interval;
         if (v.is_empty() || !v.defined) {
             if (!pending) return unknown(t);
@@ -71,7 +112,7 @@ RayResult trace_distance(const DistanceAt& distance, const expr::Tape& tape, con
             }
         }
         // No root on [tmin, t); |g(t)|/λ is a free radius around t.
-        if (m < opt.epsilon) {
+        if (m < opt.epsilon && (!estimate || estimate(t, r.evals) <= 4 * opt.epsilon)) {
             r.status = Status::Hit;
             r.t_lo = r.t_hi = r.t = t;
             return r;
@@ -116,8 +157,15 @@ RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const Tra
         r.t_hi = ray.tmax;
         return r;
     }
-    return detail::trace_distance([&](double t) { return tape_distance(tape, ray, lambda, t); },
-                                  tape, ray, opt, kappa);
+    return detail::trace_distance(
+        [&](double t, EvalCounts& evals) {
+            return tape_distance(tape, ray, lambda, t, opt.epsilon, evals);
+        },
+        [&](double t, EvalCounts& evals) {
+            ++evals.gradient;
+            return detail::first_order_distance(tape, ray, t);
+        },
+        tape, ray, opt, kappa);
 }
 
 }  // namespace

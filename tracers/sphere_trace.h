@@ -44,13 +44,25 @@ namespace detail {
 
 /// A signed distance bound at the exact point o + t·d: an enclosure of a value whose sign is f's
 /// and whose magnitude is at most the distance to the surface (within the region where it holds).
-/// Empty or undefined: unknown.
-using DistanceAt = std::function<Interval(double t)>;
+/// Empty or undefined: unknown. Evaluations beyond the one the loop counts go to `evals`.
+using DistanceAt = std::function<Interval(double t, EvalCounts& evals)>;
+
+/// A first-order estimate of the distance to the surface at o + t·d (|f| / ‖∇f‖ in double): not a
+/// bound, a sanity check of a hit.
+using EstimateAt = std::function<double(double t, EvalCounts& evals)>;
+
+/// The first-order estimate |f(p)| / ‖∇f(p)‖ of `tape` at p = o + t·d (0 where f(p) = 0; +inf
+/// where ∇f(p) = 0 or f is undefined); one gradient evaluation.
+double first_order_distance(const expr::Tape& tape, const Ray& ray, double t);
 
 /// The loop of sphere_trace / enhanced_trace over any distance bound (bounding volumes use it);
-/// `tape` answers degenerate rays (‖d‖ = 0 or tmin = tmax). Same contract as sphere_trace.
-RayResult trace_distance(const DistanceAt& distance, const expr::Tape& tape, const Ray& ray,
-                         const TraceOptions& options, double kappa);
+/// `tape` answers degenerate rays (‖d‖ = 0 or tmin = tmax). Same contract as sphere_trace. Where
+/// the bound falls below epsilon, a hit is answered only if `estimate` (when given) is at most
+/// 4·epsilon too: a bound that is merely loose then makes the tracer crawl until its budget ends
+/// (unknown) instead of answering a hit far from any surface.
+RayResult trace_distance(const DistanceAt& distance, const EstimateAt& estimate,
+                         const expr::Tape& tape, const Ray& ray, const TraceOptions& options,
+                         double kappa);
 
 }  // namespace detail
 
