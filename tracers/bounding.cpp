@@ -447,31 +447,21 @@ BoundedScene::Restricted BoundedScene::restrict_to(const Ray& ray) const {
     return out;
 }
 
-RayResult bounded_certified(const BoundedScene& scene, const Ray& r, std::uint64_t budget) {
-    const Interval in = ray_box(r, scene.bounds());
+RayResult trace_in_parts(const Ray& r, const std::array<Interval, 3>& bounds, std::uint64_t budget,
+                         const SegmentTracer& inside, const SegmentTracer& outside) {
+    const Interval in = ray_box(r, bounds);
     RayResult out;
     out.status = Status::Miss;
     EvalCounts used;
     auto part = [&](double lo, double hi, bool within) {
-        // Outside parts share their end point with the inside part: only longer ones count.
         if (!(within ? lo <= hi : lo < hi) || out.status != Status::Miss) return;
         Ray seg = r;
         seg.tmin = lo;
         seg.tmax = hi;
-        solvers::CertifiedOptions opt;
-        opt.budget = budget > used.total() ? budget - used.total() : 0;
-        if (!within) {
-            out = solvers::certified_first_root(scene.tape(), seg, opt);
-        } else {
-            const BoundedScene::Restricted f = scene.restrict_to(seg);
-            if (f.sign != 0) {
-                out.status = Status::Miss;  // f has one sign on the whole segment
-            } else {
-                out = solvers::certified_first_root(f.tape, seg, opt);
-            }
-        }
+        const std::uint64_t left = budget > used.total() ? budget - used.total() : 0;
+        out = within ? inside(seg, left) : outside(seg, left);
         used += out.evals;
-        if (out.status == Status::Unknown) out.t_hi = r.tmax;  // nothing is known past it
+        if (out.status == Status::Unknown) out.t_hi = r.tmax;
     };
     if (in.is_empty() || in.upper() < r.tmin || in.lower() > r.tmax) {
         part(r.tmin, r.tmax, false);
@@ -482,6 +472,24 @@ RayResult bounded_certified(const BoundedScene& scene, const Ray& r, std::uint64
     }
     out.evals = used;
     return out;
+}
+
+RayResult bounded_certified(const BoundedScene& scene, const Ray& r, std::uint64_t budget) {
+    auto certified = [](const expr::Tape& tape, const Ray& seg, std::uint64_t left) {
+        solvers::CertifiedOptions opt;
+        opt.budget = left;
+        return solvers::certified_first_root(tape, seg, opt);
+    };
+    return trace_in_parts(
+        r, scene.bounds(), budget,
+        [&](const Ray& seg, std::uint64_t left) {
+            const BoundedScene::Restricted f = scene.restrict_to(seg);
+            if (f.sign == 0) return certified(f.tape, seg, left);
+            RayResult miss;  // f has one sign on the whole segment
+            miss.status = Status::Miss;
+            return miss;
+        },
+        [&](const Ray& seg, std::uint64_t left) { return certified(scene.tape(), seg, left); });
 }
 
 RayResult bounded_sphere_trace(const BoundedScene& scene, const Ray& r, const TraceOptions& opt) {

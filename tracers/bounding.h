@@ -20,6 +20,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "expr/graph.h"
@@ -117,6 +118,17 @@ class BoundedScene {
     std::uint32_t root_ = 0;
     double build_seconds_ = 0;
 };
+
+/// A tracer of one segment of a ray with the budget left.
+using SegmentTracer = std::function<RayResult(const Ray& segment, std::uint64_t budget)>;
+
+/// Runs `inside` on the part of the ray inside `bounds` and `outside` on the parts before and
+/// after them (each only when longer than a point: they share their ends with the inside part),
+/// in order of t, and returns the first answer that is not a miss — an unknown one extended to
+/// ray.tmax, nothing being known past it — with the evaluations of all parts and one budget.
+RayResult trace_in_parts(const Ray& ray, const std::array<Interval, 3>& bounds,
+                         std::uint64_t budget, const SegmentTracer& inside,
+                         const SegmentTracer& outside);
 
 /// The certified solver (solvers/certified.h) on the segment of the ray inside the bounds, with
 /// the tape restricted to the leaves the segment meets (restrict_to); the parts of the ray before

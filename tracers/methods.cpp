@@ -115,30 +115,17 @@ RayFunction inside_and_out(const expr::Tape& tape, const std::array<Interval, 3>
                            const TraceOptions& topt,
                            std::function<RayResult(const Ray&, const TraceOptions&)> inside) {
     return [&tape, bounds, topt, inside](const Ray& r) {
-        const Interval in = ray_box(r, bounds);
-        RayResult out;
-        out.status = Status::Miss;
-        EvalCounts used;
-        auto part = [&](double lo, double hi, bool within) {
-            // Outside parts share their end point with the inside part: only longer ones count.
-            if (!(within ? lo <= hi : lo < hi) || out.status != Status::Miss) return;
-            Ray seg = r;
-            seg.tmin = lo;
-            seg.tmax = hi;
+        auto with_budget = [&topt](std::uint64_t left) {
             TraceOptions opt = topt;
-            opt.budget = topt.budget > used.total() ? topt.budget - used.total() : 0;
-            out = within ? inside(seg, opt) : segment_trace(tape, seg, opt);
-            used += out.evals;
+            opt.budget = left;
+            return opt;
         };
-        if (in.is_empty() || in.upper() < r.tmin || in.lower() > r.tmax) {
-            part(r.tmin, r.tmax, false);
-        } else {
-            part(r.tmin, in.lower(), false);
-            part(std::max(r.tmin, in.lower()), std::min(r.tmax, in.upper()), true);
-            part(in.upper(), r.tmax, false);
-        }
-        out.evals = used;
-        return out;
+        return trace_in_parts(
+            r, bounds, topt.budget,
+            [&](const Ray& seg, std::uint64_t left) { return inside(seg, with_budget(left)); },
+            [&](const Ray& seg, std::uint64_t left) {
+                return segment_trace(tape, seg, with_budget(left));
+            });
     };
 }
 

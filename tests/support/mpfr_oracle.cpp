@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "expr/eval.h"
+
 namespace certray::testing {
 
 bool encloses(double lo, double hi, const MpfrInterval& exact) {
@@ -44,6 +46,22 @@ std::string describe(const MpfrInterval& x) {
     out.append(std::to_string(x.precision()));
     out.append(x.defined ? ", defined)" : ", undefined)");
     return out;
+}
+
+bool lipschitz_holds(const expr::Tape& tape, double lambda, const std::array<double, 3>& p,
+                     const std::array<double, 3>& q) {
+    auto at = [&](const std::array<double, 3>& s) {
+        return expr::eval<MpfrInterval>(
+            tape, {MpfrInterval(s[0]), MpfrInterval(s[1]), MpfrInterval(s[2])});
+    };
+    const MpfrInterval fp = at(p), fq = at(q);
+    if (fp.is_empty() || fq.is_empty()) return false;
+    const MpfrInterval diff = abs(fp - fq);
+    MpfrInterval dist2(0.0);
+    for (int i = 0; i < 3; ++i) dist2 = dist2 + square(MpfrInterval(p[i]) - MpfrInterval(q[i]));
+    const MpfrInterval bound = MpfrInterval(lambda) * sqrt(dist2);
+    // The difference's lower end must not exceed the bound's upper end.
+    return mpfr_cmp(diff.lo(), bound.hi()) <= 0;
 }
 
 }  // namespace certray::testing

@@ -5,8 +5,10 @@
 // exact (mpfr_cmp_d), never through a rounded conversion.
 #pragma once
 
+#include <array>
 #include <string>
 
+#include "expr/tape.h"
 #include "interval/mpfr_interval.h"
 
 namespace certray::testing {
@@ -19,5 +21,10 @@ bool encloses(double lo, double hi, const MpfrInterval& exact);
 /// "[lo, hi] (prec P, defined|undefined)" with both bounds printed with 20 significant digits,
 /// the lower rounded down and the upper rounded up; "[empty] (prec P)" for the empty set.
 std::string describe(const MpfrInterval& x);
+
+/// True iff |f(p) − f(q)| ≤ λ‖p − q‖, decided in MPFR (f evaluated in MpfrInterval at 256 bits at
+/// both points; false also when f is undefined at either point).
+bool lipschitz_holds(const expr::Tape& tape, double lambda, const std::array<double, 3>& p,
+                     const std::array<double, 3>& q);
 
 }  // namespace certray::testing
