@@ -21,6 +21,7 @@
 #include "expr/load.h"
 #include "expr/tape.h"
 #include "solvers/certified.h"
+#include "solvers/ray_io.h"
 #include "tests/support/generators.h"
 #include "tests/support/stress_cases.h"
 #include "tracers/methods.h"
@@ -260,6 +261,42 @@ TEST(Bounding, FindsTheSpheresOfTheTenThousandSphereCsg) {
     EXPECT_LE(c.t_lo, 0.996);
     EXPECT_GE(c.t_hi, 0.996);
     EXPECT_LT(c.t_hi - c.t_lo, 1e-12);
+}
+
+TEST(Bounding, CertifiedBvhGivesTheRootsGeometryGivesOnTheDeepCsg) {
+    // scenes/stress/deep_csg_rays.csv: 256 rays straight up (+z) from z = −1 at (x, y). The ray
+    // meets the sphere of radius r = 0.004 at (0.01 i, 0.01 j, 0) iff its distance δ to that
+    // centre in the plane is below r, first at z = −√(r² − δ²): t = 1 − √(r² − δ²).
+    const expr::Tape t(expr::load_graph_file(CERTRAY_SOURCE_DIR "/scenes/stress/deep_csg.expr"));
+    const RayFunction certified = make_method("certified-bvh", t, MethodOptions{});
+    const std::vector<Ray> rays =
+        read_rays_csv_file(CERTRAY_SOURCE_DIR "/scenes/stress/deep_csg_rays.csv");
+    ASSERT_EQ(rays.size(), 256u);
+    int hits = 0;
+    for (const Ray& ray : rays) {
+        long double delta = 1;
+        for (int i = 0; i < 100; ++i) {
+            for (int j = 0; j < 100; ++j) {
+                const long double dx = ray.o[0] - 0.01L * i, dy = ray.o[1] - 0.01L * j;
+                delta = std::min(delta, std::sqrt(dx * dx + dy * dy));
+            }
+        }
+        const long double r = 0.004L;
+        if (std::fabs(delta - r) < 1e-9L) continue;  // too close to the silhouette to judge
+        const RayResult got = certified(ray);
+        SCOPED_TRACE(std::to_string(ray.o[0]) + ", " + std::to_string(ray.o[1]));
+        if (delta > r) {
+            EXPECT_EQ(got.status, Status::Miss);
+            continue;
+        }
+        ++hits;
+        const long double root = 1 - std::sqrt(r * r - delta * delta);
+        ASSERT_EQ(got.status, Status::Hit);
+        EXPECT_LE(got.t_lo, root + 1e-12L);
+        EXPECT_GE(got.t_hi, root - 1e-12L);
+        EXPECT_LT(got.t_hi - got.t_lo, 1e-12);
+    }
+    EXPECT_GT(hits, 50);  // the file is not all misses
 }
 
 TEST(Bounding, TheMethodTracesOutsideTheBoundsToo) {
