@@ -1,9 +1,17 @@
-// expr/prune.cpp — pruning by min/max choices recorded during one interval evaluation of the SSA.
+// expr/prune.cpp — pruning by min/max choices read from one interval evaluation of the SSA list.
+//
+// prune_ssa walks the list once, backwards from the output. A slot is live once a kept
+// instruction reads it, and then has its slot in the output list (`bind`, numbered in the order
+// slots become live: the output is 0). A live instruction is kept (written, back to front, with
+// its operands bound), folded to a constant, or — a min/max whose other branch is inactive on the
+// box — dropped, its chosen operand taking over its slot. prune() is the same on a fresh
+// evaluation of a Tape's SSA, renumbered in list order for Tape::from_ssa.
 #include "expr/prune.h"
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
+#include <limits>
+#include <utility>
 
 #include "expr/eval.h"
 
@@ -11,81 +19,154 @@ namespace certray::expr {
 
 namespace {
 
-enum class Keep : std::uint8_t { Both, A, B, Constant };
+/// Per op: its arity (bits 0–1), whether it is min (bit 2) or max (bit 3), and whether it may be
+/// folded to a constant (bit 4: every op but Const).
+constexpr unsigned kMin = 4, kMax = 8, kFoldable = 16;
+constexpr std::array<std::uint8_t, kOpCount> kInfo = [] {
+    std::array<std::uint8_t, kOpCount> t{};
+    for (int k = 0; k < kOpCount; ++k) {
+        const auto op = static_cast<Op>(k);
+        t[k] = static_cast<std::uint8_t>(arity(op) | (op == Op::Min ? kMin : 0) |
+                                         (op == Op::Max ? kMax : 0) |
+                                         (op != Op::Const ? kFoldable : 0));
+    }
+    return t;
+}();
+
+/// What becomes of a live instruction.
+enum Keep : unsigned { kBoth = 0, kA = 1, kB = 2, kConstant = 3 };
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+/// The decision for a live instruction (`info` = kInfo of its op) from its enclosure and its
+/// operands' (the rules of prune.h); `v[s · Stride]` is slot s's enclosure.
+template <std::size_t Stride>
+[[gnu::always_inline]] inline Keep decide(const Instr& in, unsigned info, const UpInterval* v,
+                                          std::size_t stride) {
+    const std::size_t step = Stride != 0 ? Stride : stride;
+    const UpInterval& out = v[in.out * step];
+    // One rarely taken branch (a point enclosure of an op that is not already a constant).
+    const unsigned point = unsigned{out.lower() == out.upper()} & (info / kFoldable);
+    if (point != 0) [[unlikely]] {
+        if (out.defined && std::isfinite(out.lower())) return kConstant;
+    }
+    if ((info & (kMin | kMax)) == 0) return kBoth;
+    const UpInterval& a = v[in.a * step];
+    const UpInterval& b = v[in.b * step];
+    // below: a ≤ b everywhere on the box, above: a ≥ b (both when a and b are the same value).
+    // min keeps a when a is below, b when a is above; max the other way round. A dropped branch
+    // must be defined.
+    const unsigned same = in.a == in.b;
+    const unsigned below = unsigned{a.upper() <= b.lower()} | same;
+    const unsigned above = unsigned{b.upper() <= a.lower()} | same;
+    const unsigned a_wins = (info & kMin) != 0 ? below : above;
+    const unsigned b_wins = (info & kMin) != 0 ? above : below;
+    if (a_wins & unsigned{b.defined}) return kA;
+    if (b_wins & unsigned{a.defined}) return kB;
+    return kBoth;
+}
+
+/// prune_ssa with the stride of `values` known at compile time (0: read `stride`).
+template <std::size_t Stride>
+bool prune_walk(const std::vector<Instr>& ssa, const UpInterval* values, PruneWorkspace& ws,
+                std::vector<Instr>& out, std::size_t stride) {
+    const std::size_t n = ssa.size();
+    ws.bind.assign(n, kNone);
+    if (ws.emitted.size() < n) ws.emitted.resize(n);
+    std::uint32_t* bind = ws.bind.data();
+    Instr* emitted = ws.emitted.data();
+    std::size_t pos = n;      // emitted[pos, n) is the output list so far, written back to front
+    std::uint32_t count = 1;  // slots of the output list handed out (0: the output)
+    bool changed = false;
+    bind[ssa[n - 1].out] = 0;
+    // The slot of the output list for input slot s, handed out if s is not live yet (without a
+    // branch: whether an operand is read elsewhere too is as good as random).
+    auto operand = [&](std::uint32_t s) {
+        std::uint32_t b = bind[s];
+        const bool fresh = b == kNone;
+        b = fresh ? count : b;
+        count += fresh;
+        bind[s] = b;
+        return b;
+    };
+    for (std::size_t i = n; i-- > 0;) {
+        const Instr& in = ssa[i];
+        const std::uint32_t slot = bind[in.out];
+        if (slot == kNone) {  // not read by any kept instruction: dropped
+            changed = true;
+            continue;
+        }
+        const unsigned info = kInfo[static_cast<int>(in.op)];
+        const Keep k = decide<Stride>(in, info, values, stride);
+        if (k == kBoth) [[likely]] {
+            Instr e = in;
+            e.out = slot;
+            if ((info & 3u) >= 1) e.a = operand(in.a);
+            if ((info & 3u) == 2) e.b = operand(in.b);
+            emitted[--pos] = e;
+            continue;
+        }
+        changed = true;
+        if (k == kConstant) {
+            emitted[--pos] = Instr{Op::Const, slot, 0, 0, values[in.out * stride].lower()};
+            continue;
+        }
+        const std::uint32_t chosen = k == kA ? in.a : in.b;
+        if (bind[chosen] == kNone) {
+            bind[chosen] = slot;  // the chosen operand computes straight into this slot
+        } else {
+            // Already read by a kept instruction under its own slot: copy it, as min(x, x).
+            emitted[--pos] = Instr{Op::Min, slot, bind[chosen], bind[chosen], 0.0};
+        }
+    }
+    if (!changed) return false;
+    out.assign(emitted + pos, emitted + n);
+    return true;
+}
 
 }  // namespace
+
+bool prune_ssa(const std::vector<Instr>& ssa, const UpInterval* values, PruneWorkspace& ws,
+               std::vector<Instr>& out, std::size_t stride) {
+    if (ssa.empty()) return false;
+    // The strides the 2D quadtree uses, with constant multipliers; any other one read at run time.
+    if (stride == 1) return prune_walk<1>(ssa, values, ws, out, stride);
+    if (stride == 4) return prune_walk<4>(ssa, values, ws, out, stride);
+    return prune_walk<0>(ssa, values, ws, out, stride);
+}
 
 PruneResult prune(const Tape& tape, const std::array<Interval, 3>& box) {
     const std::vector<Instr>& ssa = tape.ssa();
     const std::size_t n = ssa.size();
     std::vector<UpInterval> v(n);
-    std::vector<Keep> keep(n, Keep::Both);
     {
         RoundingScope scope;
         const std::array<UpInterval, 3> p{UpInterval(box[0]), UpInterval(box[1]),
                                           UpInterval(box[2])};
         // The SSA list is itself a program whose registers are the SSA indices, so every
         // intermediate enclosure stays readable for the choices.
-        detail::run<UpInterval>(ssa, p, v.data(), [&](const Instr& in, const UpInterval* r) {
-            const UpInterval& out = r[in.out];
-            if (in.op == Op::Min || in.op == Op::Max) {
-                const UpInterval& a = r[in.a];
-                const UpInterval& b = r[in.b];
-                const bool a_wins =
-                    in.op == Op::Min ? a.upper() <= b.lower() : a.lower() >= b.upper();
-                const bool b_wins =
-                    in.op == Op::Min ? b.upper() <= a.lower() : b.lower() >= a.upper();
-                if (a_wins && b.defined)
-                    keep[in.out] = Keep::A;
-                else if (b_wins && a.defined)
-                    keep[in.out] = Keep::B;
-            }
-            if (in.op != Op::Const && out.defined && out.lower() == out.upper() &&
-                std::isfinite(out.lower())) {
-                keep[in.out] = Keep::Constant;
-            }
-        });
-    }
-    // Nothing to drop or fold (every instruction of a compiled tape is live): the tape as it is.
-    if (std::all_of(keep.begin(), keep.end(), [](Keep k) { return k == Keep::Both; })) {
-        return PruneResult{tape, n, n, Interval(v[n - 1])};
-    }
-    // alias[i]: the SSA index whose value instruction i's value equals on the box.
-    std::vector<std::uint32_t> alias(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        alias[i] = static_cast<std::uint32_t>(i);
-        if (keep[i] == Keep::A) alias[i] = alias[ssa[i].a];
-        if (keep[i] == Keep::B) alias[i] = alias[ssa[i].b];
-    }
-    // Liveness from the output backwards, through aliases.
-    std::vector<bool> live(n, false);
-    live[alias[n - 1]] = true;
-    for (std::size_t j = n; j-- > 0;) {
-        if (!live[j] || keep[j] == Keep::Constant) continue;
-        const int k = arity(ssa[j].op);
-        if (k >= 1) live[alias[ssa[j].a]] = true;
-        if (k == 2) live[alias[ssa[j].b]] = true;
-    }
-    // Emit the live instructions, operands renamed to new indices.
-    std::vector<std::uint32_t> renamed(n, 0);
-    std::vector<Instr> out;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (!live[i]) continue;
-        Instr in = ssa[i];
-        if (keep[i] == Keep::Constant) {
-            in = Instr{Op::Const, 0, 0, 0, v[i].lower()};
-        } else {
-            const int k = arity(in.op);
-            if (k >= 1) in.a = renamed[alias[in.a]];
-            if (k == 2) in.b = renamed[alias[in.b]];
-        }
-        renamed[i] = static_cast<std::uint32_t>(out.size());
-        in.out = renamed[i];
-        out.push_back(in);
+        detail::run<UpInterval>(ssa, p, v.data());
     }
     PruneResult result;
     result.before = n;
     result.value = Interval(v[n - 1]);
+    PruneWorkspace ws;
+    std::vector<Instr> out;
+    if (!prune_ssa(ssa, v.data(), ws, out)) {
+        result.tape = tape;
+        result.after = n;
+        return result;
+    }
+    // Tape::from_ssa wants slot i = instruction i: renumber.
+    std::vector<std::uint32_t> index(out.size());
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        Instr& in = out[i];
+        const int k = arity(in.op);
+        if (k >= 1) in.a = index[in.a];
+        if (k == 2) in.b = index[in.b];
+        index[in.out] = static_cast<std::uint32_t>(i);
+        in.out = static_cast<std::uint32_t>(i);
+    }
     result.tape = Tape::from_ssa(std::move(out));
     result.after = result.tape.size();
     return result;

@@ -7,10 +7,18 @@
 // where it is not). A subexpression whose enclosure over the box is one point, defined on the
 // whole box, becomes that constant. Reference: Fidget's tape simplification, libfive's per-region
 // tape shortening (docs/theory/tape.md).
+//
+// Two forms: prune(tape, box) evaluates and returns a new Tape (allocates); prune_ssa() prunes an
+// SSA list from the enclosures of an interval evaluation the caller has already done (in SSA form:
+// one slot per instruction), into a caller-owned list, in one backward pass without allocating once
+// its buffers have grown — the form a quadtree uses to evaluate each tile once and prune from that
+// same evaluation (Fidget's `VmData::simplify`: choices and renaming in one reverse walk).
 #pragma once
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "expr/tape.h"
 #include "interval/interval.h"
@@ -28,5 +36,35 @@ struct PruneResult {
 
 /// Prunes `tape` to the box (x, y, z intervals).
 PruneResult prune(const Tape& tape, const std::array<Interval, 3>& box);
+
+/// Scratch space of prune_ssa, reused across calls (grows to the longest list seen).
+struct PruneWorkspace {
+    std::vector<std::uint32_t> bind;  ///< per slot of the input: its slot in the output, or none
+    std::vector<Instr> emitted;       ///< the pruned list as it is written, back to front
+};
+
+/// Prunes an SSA list to a box, given the enclosures over that box of an evaluation of the list
+/// that the caller has done: `values[s · stride]` is the enclosure of the value of slot s, as
+/// detail::run<UpInterval>(ssa, box, values) leaves it for stride 1 (a stride > 1 reads one lane
+/// of an evaluation of several boxes at once).
+///
+/// An SSA list here: each instruction writes its own slot `out` (slots distinct and < n, the
+/// list's length), operands name the slots of earlier instructions, and the last instruction is
+/// the output — Tape::ssa() is one (slot i = instruction i), and so is every list written to `out`
+/// (slots numbered from the output backwards, so not in list order).
+///
+/// Applies the rules of the file contract (a min/max with both operands the same slot counts as
+/// a choice), so the list written to `out` (replaced) equals `ssa` at every point of the box, and
+/// its enclosure over the box is contained in the output's. When moreover every enclosure in
+/// `values` is bounded and defined, the double evaluations of both lists agree at every point of
+/// the box (as numbers: a constant folded from [−0, 0] may carry the other sign of zero), since
+/// each double intermediate then lies in its enclosure. A dropped min/max keeps no copy of the
+/// chosen operand unless a kept instruction also reads that operand; then it becomes min(x, x)
+/// (= x, as doubles and as intervals; Fidget's CopyReg), dropped by a later pruning once that
+/// reader is gone. Returns false when nothing can be dropped or folded (`out` is then untouched:
+/// use `ssa`). `out` must not be `ssa`. Allocates nothing once `ws` and `out` have the capacity of
+/// `ssa`.
+bool prune_ssa(const std::vector<Instr>& ssa, const UpInterval* values, PruneWorkspace& ws,
+               std::vector<Instr>& out, std::size_t stride = 1);
 
 }  // namespace certray::expr

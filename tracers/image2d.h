@@ -7,10 +7,14 @@
 // for pixel: a tile is filled without looking at its pixels only when the interval enclosure of f
 // over the box spanned by the tile's pixel centres (the same doubles, computed by the same
 // functions) is defined and continuous there and certainly < 0 (Inside) or certainly ≥ 0 (Outside);
-// every other tile is split, with the tape pruned to its box (expr/prune.h), down to tiles of at
-// most kBatch pixels, which are evaluated at their centres in one Evaluator<Batch> walk (bit for
-// bit the double evaluator). Reference: Duff 1992 (interval quadtrees for implicit curves);
-// Fidget's and libfive's 2D renderers; docs/theory/rendering.md.
+// every other tile is split, with the tape pruned to its box (expr::prune_ssa, from the choices of
+// that same evaluation), down to tiles of at most kBatch pixels, which are evaluated at their
+// centres in one Batch walk (bit for bit the double evaluator). Tiles are evaluated four at a
+// time (tracers/quad_interval.h, tracers/tile_walker.h); threads take square tiles of side
+// `root_tile` in Z order (tracers/image2d.cpp). Walker buffers are kept between calls (about 1 MB
+// per thread ever used), so that repeated renders fault in no fresh memory.
+// Reference: Duff 1992 (interval quadtrees for implicit curves); Keeter 2020 (tiles with tapes
+// shortened per tile); Fidget's and libfive's 2D renderers; docs/theory/rendering.md.
 #pragma once
 
 #include <array>
@@ -30,8 +34,8 @@ struct Image2dOptions {
     std::array<double, 2> y{-1.0, 1.0};  ///< [ymin, ymax]
     unsigned width = 1024;
     unsigned height = 1024;
-    unsigned threads = 0;      ///< worker threads; 0: one per hardware thread
-    unsigned root_tile = 64;   ///< side of the tiles handed to threads (a power of two ≥ 8)
+    unsigned threads = 0;     ///< worker threads; 0: one per hardware thread
+    unsigned root_tile = 64;  ///< side of the tiles handed to threads (≥ 8; a power of two is best)
     bool use_quadtree = true;  ///< false: evaluate every pixel centre (the brute force, batched)
 };
 
