@@ -1,37 +1,579 @@
-// tracers/segment_trace.cpp — segment tracing with interval directional derivatives.
+// tracers/segment_trace.cpp — segment tracing with a second-order ray jet evaluated over the DAG.
 //
-// Invariant: at the top of the loop g has no root on [tmin, t).
+// RayJet is one more number type of the evaluator (expr/eval.h): along the ray x = o + τ·d it
+// carries, in upward-mode intervals, the point part (g, g′ at the current t) and the segment part
+// (G, G′, G″ over T) of every intermediate value, plus `k`: an enclosure of the value at every
+// point of T where its derivative may jump (empty: C¹ on T). Rules, for u a value of the DAG:
+//   • min/max of operands not ordered on T adds a kink with value in U ∩ V (and the hulls of
+//     the derivatives, as Clarke's); abs of an operand straddling 0 adds a kink with value 0;
+//   • φ(u) for a smooth φ maps the kink values by φ, and DROPS them when φ′(K) = {0}: the jump
+//     of (φ∘u)′ at a kink t_k is φ′(u(t_k))·jump(u′), so pow(max(k, 0), n ≥ 2) is C¹ again;
+//   • u ∘ w (+ − × ÷) keeps the kinks of both, with values u(K_u) ∘ W and U ∘ w(K_w).
+// Where no kink remains, g′ is continuous and piecewise C¹ with |g″| bounded, so Taylor's formula
+// with the integral remainder gives g(t + τ) ∈ g(t) + τ·g′(t) + τ²/2·G″(T).
+// `vt` is the plain interval enclosure over the whole proposed segment, kept apart from `v` so that
+// a pass whose segment a switch cut shortens still yields a list pruned for the whole proposal.
+// SwitchObserver makes the switch cuts during the pass (expr::detail::run's observer); Scratch
+// holds the jet slots and the stack of pruned lists. Invariant of the loop: g has no zero on
+// [tmin, t).
 #include "tracers/segment_trace.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
-#include "expr/derived.h"
 #include "expr/eval.h"
-#include "interval/dual.h"
+#include "expr/prune.h"
 
 namespace certray::tracers {
 
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-using D1 = Dual<Interval, 1>;
+using I = UpInterval;  // only inside a RoundingScope (segment_model, Scratch::eval)
 
-/// G(T) and G′(T) for T = [lo, hi] (hi may be +inf).
-D1 g_segment(const expr::Tape& tape, const Ray& ray, double lo, double hi) {
-    thread_local expr::Evaluator<D1> eval;
-    const Interval tt(lo, hi);
-    std::array<D1, 3> p;
-    for (int i = 0; i < 3; ++i) {
-        p[i] = D1(Interval(ray.o[i]) + tt * Interval(ray.d[i]), {Interval(ray.d[i])});
-    }
-    return eval(tape, p);
+bool has(const I& k) { return !k.is_empty(); }
+bool is_zero(const I& x) { return x.lower() == 0 && x.upper() == 0; }
+/// Hull ignoring empty operands (empty = no kink).
+I khull(const I& a, const I& b) {
+    if (a.is_empty()) return b;
+    if (b.is_empty()) return a;
+    return hull(a, b);
 }
+
+/// The second-order ray jet (see the file comment). p0, p1: point; v, d1, d2: segment; k: kinks;
+/// vt: the plain enclosure over the whole proposed segment (with no branch fixed by a switch
+/// cut, so valid for pruning over it); c: a constant (p1, d1, d2 are exactly 0, no kink).
+struct RayJet {
+    I p0, p1, v, d1, d2, k, vt;
+    bool c;
+    RayJet() : RayJet(0.0) {}
+    RayJet(double x)  // NOLINT: implicit on purpose (the evaluator's T(c))
+        : p0(x), p1(0.0), v(x), d1(0.0), d2(0.0), k(I::empty()), vt(x), c(true) {}
+};
+
+/// A constant from its point, segment and plain enclosures.
+RayJet constant(const I& p0, const I& v, const I& vt) {
+    RayJet r;
+    r.p0 = p0;
+    r.v = v;
+    r.vt = vt;
+    return r;
+}
+
+/// φ(u) from φ's values and derivatives: point (f0 = φ(p0), f1 = φ′(p0)), segment (s0 = φ(v),
+/// s1 = φ′(v), s2 = φ″(v)), st = φ(vt), kinks (kv = φ(K), kd = φ′(K)).
+/// (φ∘u)′ = φ′(u)·u′, (φ∘u)″ = φ″(u)·u′² + φ′(u)·u″.
+RayJet chain(const RayJet& u, const I& f0, const I& f1, const I& s0, const I& s1, const I& s2,
+             const I& st, const I& kv, const I& kd) {
+    if (u.c) return constant(f0, s0, st);
+    RayJet r;
+    r.c = false;
+    r.p0 = f0;
+    r.p1 = f1 * u.p1;
+    r.v = s0;
+    r.vt = st;
+    r.d1 = s1 * u.d1;
+    r.d2 = s2 * square(u.d1) + s1 * u.d2;
+    r.k = (!has(u.k) || is_zero(kd)) ? I::empty() : kv;
+    return r;
+}
+
+RayJet operator-(const RayJet& u) {
+    RayJet r = u;
+    r.p0 = -u.p0;
+    r.p1 = -u.p1;
+    r.v = -u.v;
+    r.vt = -u.vt;
+    r.d1 = -u.d1;
+    r.d2 = -u.d2;
+    r.k = has(u.k) ? I(-u.k) : u.k;
+    return r;
+}
+/// (u ± w)′ = u′ ± w′, (u ± w)″ = u″ ± w″ (sign = −1 for −).
+template <int Sign>
+RayJet add(const RayJet& u, const RayJet& w) {
+    auto op = [](const I& a, const I& b) { return Sign > 0 ? I(a + b) : I(a - b); };
+    if (u.c && w.c) return constant(op(u.p0, w.p0), op(u.v, w.v), op(u.vt, w.vt));
+    RayJet r;
+    r.c = false;
+    r.p0 = op(u.p0, w.p0);
+    r.v = op(u.v, w.v);
+    r.vt = op(u.vt, w.vt);
+    if (w.c) {
+        r.p1 = u.p1, r.d1 = u.d1, r.d2 = u.d2;
+    } else if (u.c) {
+        r.p1 = Sign > 0 ? w.p1 : I(-w.p1);
+        r.d1 = Sign > 0 ? w.d1 : I(-w.d1);
+        r.d2 = Sign > 0 ? w.d2 : I(-w.d2);
+    } else {
+        r.p1 = op(u.p1, w.p1);
+        r.d1 = op(u.d1, w.d1);
+        r.d2 = op(u.d2, w.d2);
+    }
+    r.k = khull(has(u.k) ? op(u.k, w.v) : u.k, has(w.k) ? op(u.v, w.k) : w.k);
+    return r;
+}
+RayJet operator+(const RayJet& u, const RayJet& w) { return add<1>(u, w); }
+RayJet operator-(const RayJet& u, const RayJet& w) { return add<-1>(u, w); }
+/// (uw)′ = u′w + uw′, (uw)″ = u″w + 2u′w′ + uw″.
+RayJet operator*(const RayJet& u, const RayJet& w) {
+    if (u.c && w.c) return constant(u.p0 * w.p0, u.v * w.v, u.vt * w.vt);
+    if (u.c) return w * u;
+    RayJet r;
+    r.c = false;
+    r.p0 = u.p0 * w.p0;
+    r.v = u.v * w.v;
+    r.vt = u.vt * w.vt;
+    if (w.c) {
+        r.p1 = u.p1 * w.p0;
+        r.d1 = u.d1 * w.v;
+        r.d2 = u.d2 * w.v;
+    } else {
+        r.p1 = u.p1 * w.p0 + u.p0 * w.p1;
+        r.d1 = u.d1 * w.v + u.v * w.d1;
+        r.d2 = u.d2 * w.v + 2.0 * (u.d1 * w.d1) + u.v * w.d2;
+    }
+    r.k = khull(has(u.k) ? I(u.k * w.v) : u.k, has(w.k) ? I(u.v * w.k) : w.k);
+    return r;
+}
+/// q = u/w: q′ = (u′ − q·w′)/w, q″ = (u″ − 2q′w′ − q·w″)/w (from u = q·w).
+RayJet operator/(const RayJet& u, const RayJet& w) {
+    if (u.c && w.c) return constant(u.p0 / w.p0, u.v / w.v, u.vt / w.vt);
+    RayJet r;
+    r.c = false;
+    r.p0 = u.p0 / w.p0;
+    r.v = u.v / w.v;
+    r.vt = u.vt / w.vt;
+    if (w.c) {
+        r.p1 = u.p1 / w.p0;
+        r.d1 = u.d1 / w.v;
+        r.d2 = u.d2 / w.v;
+    } else {
+        r.p1 = (u.p1 - r.p0 * w.p1) / w.p0;
+        r.d1 = (u.d1 - r.v * w.d1) / w.v;
+        r.d2 = (u.d2 - 2.0 * (r.d1 * w.d1) - r.v * w.d2) / w.v;
+    }
+    r.k = khull(has(u.k) ? I(u.k / w.v) : u.k, has(w.k) ? I(u.v / w.k) : w.k);
+    return r;
+}
+/// (u²)′ = 2uu′, (u²)″ = 2u′² + 2uu″.
+RayJet square(const RayJet& u) {
+    if (u.c) return constant(square(u.p0), square(u.v), square(u.vt));
+    const I two(2.0);
+    return chain(u, square(u.p0), two * u.p0, square(u.v), two * u.v, two, square(u.vt),
+                 square(u.k), two * u.k);
+}
+/// (uⁿ)′ = n·uⁿ⁻¹·u′, (uⁿ)″ = n(n−1)·uⁿ⁻²·u′² + n·uⁿ⁻¹·u″.
+RayJet pow(const RayJet& u, unsigned n) {
+    if (u.c || n == 0) return constant(pow(u.p0, n), pow(u.v, n), pow(u.vt, n));
+    if (n == 1) return u;
+    const I nn(static_cast<double>(n)), nn1(static_cast<double>(n) * (n - 1));
+    const I v1 = pow(u.v, n - 1);
+    return chain(u, pow(u.p0, n), nn * pow(u.p0, n - 1), pow(u.v, n), nn * v1,
+                 nn1 * pow(u.v, n - 2), pow(u.vt, n), pow(u.k, n), nn * pow(u.k, n - 1));
+}
+/// (√u)′ = u′/(2√u), (√u)″ = (u″ − 2·(√u)′²)/(2√u); unbounded where u may be 0.
+RayJet sqrt(const RayJet& u) {
+    if (u.c) return constant(sqrt(u.p0), sqrt(u.v), sqrt(u.vt));
+    RayJet r;
+    r.c = false;
+    r.p0 = sqrt(u.p0);
+    r.p1 = u.p0.lower() > 0 ? I(u.p1 / (2.0 * r.p0)) : I::entire();
+    r.v = sqrt(u.v);
+    r.vt = sqrt(u.vt);
+    if (u.v.lower() > 0) {
+        const I two_s = 2.0 * r.v;
+        r.d1 = u.d1 / two_s;
+        r.d2 = (u.d2 - 2.0 * square(r.d1)) / two_s;
+    } else {
+        r.d1 = r.d2 = I::entire();
+    }
+    r.k = has(u.k) ? sqrt(u.k) : u.k;  // φ′ = 1/(2√u) is never 0
+    return r;
+}
+/// (eᵘ)′ = eᵘu′, (eᵘ)″ = eᵘ(u″ + u′²).
+RayJet exp(const RayJet& u) {
+    if (u.c) return constant(exp(u.p0), exp(u.v), exp(u.vt));
+    RayJet r;
+    r.c = false;
+    r.p0 = exp(u.p0);
+    r.p1 = r.p0 * u.p1;
+    r.v = exp(u.v);
+    r.vt = exp(u.vt);
+    r.d1 = r.v * u.d1;
+    r.d2 = r.v * (u.d2 + square(u.d1));
+    r.k = has(u.k) ? exp(u.k) : u.k;
+    return r;
+}
+/// (log u)′ = u′/u, (log u)″ = u″/u − (u′/u)².
+RayJet log(const RayJet& u) {
+    if (u.c) return constant(log(u.p0), log(u.v), log(u.vt));
+    RayJet r;
+    r.c = false;
+    r.p0 = log(u.p0);
+    r.p1 = u.p1 / u.p0;
+    r.v = log(u.v);
+    r.vt = log(u.vt);
+    r.d1 = u.d1 / u.v;
+    r.d2 = u.d2 / u.v - square(r.d1);
+    r.k = has(u.k) ? log(u.k) : u.k;
+    return r;
+}
+/// (sin u)′ = cos u·u′, (sin u)″ = cos u·u″ − sin u·u′².
+RayJet sin(const RayJet& u) {
+    if (u.c) return constant(sin(u.p0), sin(u.v), sin(u.vt));
+    const I c = cos(u.v);
+    return chain(u, sin(u.p0), cos(u.p0), sin(u.v), c, -sin(u.v), sin(u.vt), sin(u.k), cos(u.k));
+}
+/// (cos u)′ = −sin u·u′, (cos u)″ = −sin u·u″ − cos u·u′².
+RayJet cos(const RayJet& u) {
+    if (u.c) return constant(cos(u.p0), cos(u.v), cos(u.vt));
+    const I s = sin(u.v);
+    return chain(u, cos(u.p0), -sin(u.p0), cos(u.v), -s, -cos(u.v), cos(u.vt), cos(u.k), -sin(u.k));
+}
+/// |u| = u where u ≥ 0 on T, −u where u ≤ 0; else Clarke hulls and a kink of value 0.
+RayJet abs(const RayJet& u) {
+    if (u.c) return constant(abs(u.p0), abs(u.v), abs(u.vt));
+    RayJet r = u;
+    if (u.v.lower() >= 0) {
+        // |u| = u on T.
+    } else if (u.v.upper() <= 0) {
+        r = -u;
+    } else {
+        r.d1 = hull(u.d1, I(-u.d1));
+        r.d2 = hull(u.d2, I(-u.d2));
+        r.k = khull(I(0.0), has(u.k) ? abs(u.k) : u.k);
+    }
+    r.v = abs(u.v);
+    r.vt = abs(u.vt);
+    r.p0 = abs(u.p0);
+    if (u.p0.upper() < 0) {
+        r.p1 = -u.p1;
+    } else if (!(u.p0.lower() > 0)) {
+        r.p1 = hull(u.p1, I(-u.p1));
+    } else {
+        r.p1 = u.p1;
+    }
+    return r;
+}
+/// min/max: the operand that wins on all of T (point: at t), else hulls and a kink in U ∩ W.
+RayJet pick(const RayJet& u, const RayJet& w, bool u_wins_t, bool w_wins_t, bool u_wins_T,
+            bool w_wins_T) {
+    RayJet r;
+    r.c = u.c && w.c;
+    r.p1 = u_wins_t ? u.p1 : w_wins_t ? w.p1 : hull(u.p1, w.p1);
+    if (u_wins_T) {
+        r.d1 = u.d1, r.d2 = u.d2, r.k = u.k, r.c = u.c;
+    } else if (w_wins_T) {
+        r.d1 = w.d1, r.d2 = w.d2, r.k = w.k, r.c = w.c;
+    } else {
+        r.d1 = hull(u.d1, w.d1);
+        r.d2 = hull(u.d2, w.d2);
+        r.k = r.c ? I::empty() : khull(khull(u.k, w.k), intersect(u.v, w.v));
+    }
+    return r;
+}
+RayJet min(const RayJet& u, const RayJet& w) {
+    RayJet r = pick(u, w, u.p0.upper() < w.p0.lower(), w.p0.upper() < u.p0.lower(),
+                    u.v.upper() <= w.v.lower(), w.v.upper() <= u.v.lower());
+    r.p0 = min(u.p0, w.p0);
+    r.v = min(u.v, w.v);
+    r.vt = min(u.vt, w.vt);
+    return r;
+}
+RayJet max(const RayJet& u, const RayJet& w) {
+    RayJet r = pick(u, w, u.p0.lower() > w.p0.upper(), w.p0.lower() > u.p0.upper(),
+                    u.v.lower() >= w.v.upper(), w.v.lower() >= u.v.upper());
+    r.p0 = max(u.p0, w.p0);
+    r.v = max(u.v, w.v);
+    r.vt = max(u.vt, w.vt);
+    return r;
+}
+
+/// The enclosures of the output of a jet evaluation.
+SegmentModel model_of(const RayJet& r) {
+    SegmentModel m;
+    m.g0 = Interval(r.p0);
+    m.g1 = Interval(r.p1);
+    m.g = Interval(r.v);
+    m.dg = Interval(r.d1);
+    m.ddg = Interval(r.d2);
+    m.smooth = r.k.is_empty();
+    return m;
+}
+
+/// The ray's variables at t (point part) and over [t, end] (segment part). Upward mode.
+std::array<RayJet, 3> ray_jets(const Ray& ray, double t, double end) {
+    std::array<RayJet, 3> p;
+    const I tt(t), seg(t, end);
+    for (int i = 0; i < 3; ++i) {
+        const I o(ray.o[i]), d(ray.d[i]);
+        p[i].p0 = o + tt * d;
+        p[i].p1 = d;
+        p[i].v = p[i].vt = o + seg * d;
+        p[i].d1 = d;
+        p[i].c = false;
+    }
+    return p;
+}
+
+template <class J>
+bool finite(const J& x) {
+    return !x.is_empty() && std::isfinite(x.lower()) && std::isfinite(x.upper());
+}
+
+/// A lower bound on the first τ > 0 where c + b·τ + a·τ² = 0 (c > 0), +inf if there is none.
+/// The first zero is 2c/(−b + √(b² − 4ac)); the bound uses the denominator rounded up.
+/// J: Interval, or UpInterval inside a RoundingScope.
+template <class J>
+double first_zero_down(double c, double b, double a) {
+    const J disc = square(J(b)) - J(4.0) * J(a) * J(c);
+    if (disc.upper() < 0) return kInf;
+    const J den = -J(b) + sqrt(J(0.0, disc.upper()));
+    if (!(den.upper() > 0)) return kInf;
+    return (J(2.0) * J(c) / J(den.upper())).lower();
+}
+
+/// Whether c + b·τ + a·τ² ≤ 0 is proven at τ (interval evaluation at the exact τ).
+bool proven_nonpositive(double c, double b, double a, double tau) {
+    const Interval x(tau);
+    return (Interval(c) + Interval(b) * x + Interval(a) * square(x)).upper() <= 0;
+}
+
+/// The smallest τ ≤ len found where the upper bound c + b·τ + a·τ² is proven ≤ 0 (c > 0), or
+/// +inf. Candidate: the real first zero of the quadratic, nudged up until the check holds.
+double first_upper_zero(double c, double b, double a, double len) {
+    const double disc = b * b - 4 * a * c;
+    if (!(disc >= 0)) return kInf;
+    const double den = -b + std::sqrt(disc);
+    if (!(den > 0)) return kInf;
+    double tau = 2 * c / den;
+    for (int i = 0; i < 4 && tau <= len; ++i) {
+        if (proven_nonpositive(c, b, a, tau)) return tau;
+        tau = tau * (1 + 1e-12) + 1e-300;
+    }
+    return kInf;
+}
+
+/// A model's parts in the interval type J (SegmentModel is the one for Interval).
+template <class J>
+struct ModelOf {
+    J g0, g1, g, dg, ddg;
+    bool smooth = false;
+};
+
+/// For a model on [t, t + len] with 0 ∉ g0 and g continuous on the segment: δ such that g has
+/// no zero on [t, t + δ) (+inf: none on the segment by the bounds), and τ* ≤ len such that a zero
+/// is proven in (t, t + τ*] (+inf: none proven). See the file contract of segment_trace.h.
+struct Steps {
+    double delta = 0;
+    double tau = kInf;
+};
+template <class J, class M>
+Steps steps(const M& m, double len, bool second_order, bool certify) {
+    const bool neg = m.g0.upper() < 0;  // h = σ·g > 0 at t
+    auto lo = [&](const J& x) { return neg ? -x.upper() : x.lower(); };
+    auto hi = [&](const J& x) { return neg ? -x.lower() : x.upper(); };
+    Steps r;
+    const double c = lo(m.g0);
+    if (finite(m.dg)) {  // h(t + τ) ≥ h(t) + τ·inf σG′
+        const double l1 = lo(m.dg);
+        r.delta = l1 >= 0 ? kInf : (J(c) / J(-l1)).lower();
+        if (certify && hi(m.dg) < 0) r.tau = first_upper_zero(hi(m.g0), hi(m.dg), 0, len);
+    }
+    if (second_order && m.smooth && finite(m.g1) && finite(m.ddg)) {
+        // h(t + τ) ≥ h(t) + τ·inf σg′(t) + τ²/2·inf σG″
+        r.delta = std::max(r.delta, first_zero_down<J>(c, lo(m.g1), lo(m.ddg) / 2));
+        if (certify) {
+            r.tau = std::min(r.tau, first_upper_zero(hi(m.g0), hi(m.g1), hi(m.ddg) / 2, len));
+        }
+    }
+    return r;
+}
+
+/// The jet of a − b (point and segment parts; kinks of either make it non-smooth). Upward mode.
+ModelOf<I> difference(const RayJet& a, const RayJet& b) {
+    ModelOf<I> m;
+    m.g0 = a.p0 - b.p0;
+    m.g1 = a.p1 - b.p1;
+    m.g = a.v - b.v;
+    m.dg = a.d1 - b.d1;
+    m.ddg = a.d2 - b.d2;
+    m.smooth = a.k.is_empty() && b.k.is_empty();
+    return m;
+}
+
+/// The observer of one jet pass (expr::detail::run): at each min, max or abs whose branches are
+/// not ordered on the segment, it bounds the distance τ from t over which the branch taken at t
+/// stays taken (the safe step of a − b, or of the operand of abs). If τ covers the segment, or
+/// τ ≥ `floor` and the segment is cut to [t, t + τ], the node is replaced by that branch: on the
+/// (possibly shorter) segment it IS that branch, smooth, with no hull. Every enclosure computed
+/// before a cut is over a longer segment, so it stays valid on the shorter one.
+struct SwitchObserver {
+    double t;
+    double* end;       ///< the segment's end, lowered by cuts
+    double* next_end;  ///< the nearest later switch seen (a bound from below, ≥ *end), or +inf
+    double floor;      ///< the shortest segment a cut may leave
+    bool second_order;
+
+    void operator()(const expr::Instr& in, RayJet* r) const {
+        if (in.op != expr::Op::Min && in.op != expr::Op::Max && in.op != expr::Op::Abs) return;
+        const RayJet& a = r[in.a];
+        const bool is_abs = in.op == expr::Op::Abs;
+        const RayJet zero(0.0);
+        const RayJet& b = is_abs ? zero : r[in.b];
+        if (a.v.lower() >= b.v.upper() || b.v.lower() >= a.v.upper()) return;  // ordered on T
+        const ModelOf<I> u = difference(a, b);
+        if (u.g0.is_empty() || possibly_zero(u.g0) || u.g.is_empty() || !u.g.defined) return;
+        const I span = I(*end) - I(t);
+        const double tau = steps<I>(u, span.lower(), second_order, false).delta;
+        // a − b ≠ 0 on [t, t + τ) (and at t + τ, where a = b, both branches agree): the branch
+        // taken at t is the node on the closed segment if τ ≥ its length.
+        if (tau < span.upper()) {
+            if (!(tau >= floor)) return;
+            const double cut = (I(t) + I(tau)).lower();
+            if (!(cut > t)) return;
+            *next_end = std::min(*next_end, *end);
+            *end = cut;
+        } else if (tau < kInf) {
+            *next_end = std::min(*next_end, (I(t) + I(tau)).lower());
+        }
+        const bool a_above = u.g0.lower() > 0;
+        const bool take_a = is_abs ? a_above : (in.op == expr::Op::Max) == a_above;
+        RayJet& out = r[in.out];
+        const I vt = out.vt;  // the plain enclosure stays the one over the whole segment
+        const bool defined_v = a.v.defined && b.v.defined, defined_p = a.p0.defined && b.p0.defined;
+        out = is_abs ? (a_above ? a : -a) : (take_a ? a : b);
+        out.v.defined = out.v.defined && defined_v;
+        out.p0.defined = out.p0.defined && defined_p;
+        if (is_abs) {  // |a| ≥ 0 whatever the branch
+            out.v = intersect(out.v, I(0.0, kInf));
+            out.v.defined = out.v.defined && defined_v;
+        }
+        out.vt = vt;
+    }
+};
+
+/// Per-thread scratch of one ray: jet slots and a stack of SSA lists pruned to nested windows
+/// [lo, hi] of t (level 0: the whole tape), so that each evaluation runs on the list pruned to
+/// the smallest window holding its segment (expr/prune.h: the pruned list equals f on the
+/// window's box, so every enclosure over a sub-segment is one of f). No allocation once warm.
+struct Scratch {
+    static constexpr int kLevels = 12;
+    static constexpr std::size_t kSweep = 256;  ///< a whole tape longer than this is swept first
+    std::size_t sweep_above = std::numeric_limits<std::size_t>::max();  ///< pruned lists: same
+    std::vector<RayJet> regs;
+    std::vector<UpInterval> values;
+    expr::PruneWorkspace ws;
+    std::array<std::vector<expr::Instr>, kLevels> lists;
+    std::array<const std::vector<expr::Instr>*, kLevels> list{};
+    std::array<double, kLevels> lo{}, hi{};
+    int depth = 0;
+
+    void start(const expr::Tape& tape, std::size_t sweep_pruned_above) {
+        depth = 0;
+        sweep_above = sweep_pruned_above;
+        list[0] = &tape.ssa();
+        lo[0] = -kInf;
+        hi[0] = kInf;
+    }
+
+    /// Prunes `ssa` (the list at the current depth) by the plain (vt) or cut (v) enclosures and
+    /// pushes the result for the window [t, hi_t].
+    void push(const std::vector<expr::Instr>& ssa, std::size_t n, double t, double hi_t,
+              bool plain) {
+        if (values.size() < n) values.resize(n);
+        for (std::size_t i = 0; i < n; ++i) values[i] = plain ? regs[i].vt : regs[i].v;
+        push_values(ssa, t, hi_t);
+    }
+    /// Prunes `ssa` by `values` (slot-indexed enclosures over the window's box) and pushes the
+    /// result for the window [t, hi_t]; false when nothing was pruned or the stack is full.
+    bool push_values(const std::vector<expr::Instr>& ssa, double t, double hi_t) {
+        if (depth + 1 >= kLevels) return false;
+        std::vector<expr::Instr>& out = lists[depth + 1];
+        if (!expr::prune_ssa(ssa, values.data(), ws, out)) return false;
+        ++depth;
+        list[depth] = &out;
+        lo[depth] = t;
+        hi[depth] = hi_t;
+        return true;
+    }
+
+    /// What one step evaluated: `sweep` — an interval evaluation of a long list over the segment
+    /// (to prune it); if that alone proves g ≠ 0 on the whole segment, `free` and no jet pass;
+    /// otherwise `jet` — one jet pass, whose result is `m`.
+    struct Step {
+        SegmentModel m;
+        bool sweep = false, jet = false, free = false;
+    };
+
+    /// One step for the segment [t, end] (end may be lowered by switch cuts, floor = the
+    /// shortest cut; floor = +inf: no switching); prunes to the final segment's box.
+    Step eval(const Ray& ray, double t, double& end, double& next_end, double floor,
+              bool second_order, bool prune, bool may_sweep) {
+        Step step;
+        next_end = kInf;
+        while (depth > 0 && !(lo[depth] <= t && end <= hi[depth])) --depth;
+        const double end0 = end;
+        bool plain_pushed = false;
+        if (prune && may_sweep && list[depth]->size() > (depth == 0 ? kSweep : sweep_above)) {
+            // The plain enclosures first (the vt parts of this same evaluation), and the
+            // derivative parts below only for the instructions that survive pruning by them.
+            const std::vector<expr::Instr>& src = *list[depth];
+            if (values.size() < src.size()) values.resize(src.size());
+            {
+                RoundingScope scope;
+                const std::array<RayJet, 3> p = ray_jets(ray, t, end);
+                expr::detail::run<UpInterval>(src, {p[0].v, p[1].v, p[2].v}, values.data());
+            }
+            step.sweep = true;
+            const UpInterval& g = values[src.back().out];
+            if (g.defined && !g.is_empty() && !possibly_zero(g)) {
+                step.free = true;  // g is continuous and ≠ 0 on [t, end]
+                return step;
+            }
+            plain_pushed = push_values(src, t, end);
+        }
+        const std::vector<expr::Instr>& ssa = *list[depth];
+        const std::size_t n = ssa.size();
+        if (regs.size() < n) regs.resize(n);
+        SegmentModel& m = step.m;
+        step.jet = true;
+        {
+            RoundingScope scope;
+            const std::array<RayJet, 3> p = ray_jets(ray, t, end);
+            if (floor < kInf) {
+                expr::detail::run<RayJet>(ssa, p, regs.data(),
+                                          SwitchObserver{t, &end, &next_end, floor, second_order});
+            } else {
+                expr::detail::run<RayJet>(ssa, p, regs.data());
+            }
+            m = model_of(regs[ssa.back().out]);  // the output: the last instruction's slot
+        }
+        if (prune && n > 1) {
+            // A cut: the plain enclosures give a list for the whole proposed segment, the cut
+            // ones (branches fixed) a shorter list for the cut segment inside it.
+            if (end < end0 && !plain_pushed) push(ssa, n, t, end0, true);
+            push(ssa, n, t, end, false);
+        }
+        return step;
+    }
+};
 
 }  // namespace
 
-RayResult segment_trace(const expr::Tape& tape, const Ray& ray, const TraceOptions& opt) {
+SegmentModel segment_model(const expr::Tape& tape, const Ray& ray, double t, double end) {
+    thread_local std::vector<RayJet> regs;
+    if (regs.size() < tape.registers()) regs.resize(tape.registers());
+    RoundingScope scope;
+    expr::detail::run<RayJet>(tape.instrs(), ray_jets(ray, t, end), regs.data());
+    return model_of(regs[tape.output()]);
+}
+
+RayResult segment_trace(const expr::Tape& tape, const Ray& ray, const TraceOptions& opt,
+                        const SegmentOptions& so) {
     RayResult r;
     auto unknown = [&](double lo) {
         r.status = Status::Unknown;
@@ -39,74 +581,114 @@ RayResult segment_trace(const expr::Tape& tape, const Ray& ray, const TraceOptio
         r.t_hi = ray.tmax;
         return r;
     };
+    auto hit = [&](double lo, double hi) {
+        r.status = Status::Hit;
+        r.t_lo = r.t = lo;
+        r.t_hi = hi;
+        return r;
+    };
     const double dn = detail::norm_up(ray.d);
     if (dn == 0 || ray.tmin == ray.tmax) return detail::degenerate(tape, ray);
+    const double eps_t = detail::div_down(opt.epsilon, dn);  // epsilon in units of t
+    thread_local Scratch scratch;
+    scratch.start(tape, so.sweep_pruned_above);
     double t = ray.tmin;
     double s = kInf;  // the first segment is the whole ray
-    double m = -1;    // |g(t)| lower bound, -1 when not yet evaluated at this t
     while (true) {
         if (r.evals.total() >= opt.budget) return unknown(t);
-        if (m < 0) {
-            const Interval v = detail::g_at(tape, ray, t);
-            ++r.evals.interval;
-            if (v.is_empty() || !v.defined) return unknown(t);
-            m = detail::mignitude(v);
-            if (m == 0) {
-                r.status = Status::Hit;
-                r.t_lo = r.t_hi = r.t = t;
-                return r;
-            }
-            if (t >= ray.tmax) break;  // g(tmax) ≠ 0 and [tmin, tmax) is free
-            if (r.evals.total() >= opt.budget) return unknown(t);
-        }
-        const double end = std::min(detail::add_up(t, s), ray.tmax);
-        const D1 d = g_segment(tape, ray, t, end);
-        ++r.evals.gradient;
-        if (!d.a.is_empty() && d.a.defined && !possibly_zero(d.a)) {
-            // g is continuous and nonzero on all of [t, end].
-            if (end >= ray.tmax) break;
+        double end = std::min(detail::add_up(t, s), ray.tmax);
+        const double proposed = (Interval(end) - Interval(t)).lower();
+        const double floor = so.switch_floor > 0 ? so.switch_floor * proposed : kInf;
+        double next_end = kInf;
+        const bool may_sweep = r.evals.total() + 2 <= opt.budget;  // a sweep and a jet pass
+        const Scratch::Step step =
+            scratch.eval(ray, t, end, next_end, floor, so.second_order, so.prune, may_sweep);
+        r.evals.interval += step.sweep;
+        r.evals.gradient += step.jet;
+        if (step.free) {
+            if (end >= ray.tmax) break;  // [t, tmax] is free
             t = end;
-            s = 2 * s;
-            m = -1;
+            s = so.growth * proposed;
+            if (so.tail > 0 && s > so.tail * (ray.tmax - t)) s = kInf;
             continue;
         }
-        const Interval& dg = d.v[0];
-        double lam = kInf;
-        if (d.a.defined && !dg.is_empty() && dg.defined) {
-            lam = std::max(std::fabs(dg.lower()), std::fabs(dg.upper()));
+        const SegmentModel& m = step.m;
+        if (m.g0.is_empty() || !m.g0.defined) return unknown(t);
+        if (possibly_zero(m.g0)) return hit(t, t);  // |g(t)| cannot be told from 0
+        if (t >= ray.tmax) break;                   // g(tmax) ≠ 0 and [tmin, tmax) is free
+        const Interval span = Interval(end) - Interval(t);
+        const double len = span.lower();  // |T| rounded down
+        const bool cont = m.g.defined && !m.g.is_empty();
+        bool free = cont && !possibly_zero(m.g);
+        Steps st;
+        if (!free && cont) {
+            st = steps<Interval>(m, len, so.second_order, so.certify);
+            st.delta *= so.step_scale;
+            if (st.delta > span.upper()) free = true;  // h > 0 on [t, t + δ) ⊇ [t, end]
         }
-        const double seg_lo = (Interval(end) - Interval(t)).lower();
-        const double seg_hi = (Interval(end) - Interval(t)).upper();
-        if (!(lam < kInf)) {
-            // No bound on this segment (unbounded, or g′ undefined somewhere): shrink and retry.
-            const double shorter = s == kInf ? std::max(1.0, std::fabs(t)) / dn : seg_lo / 8;
+        if (free) {
+            if (end >= ray.tmax) break;  // [t, tmax] is free
+            t = end;
+            // Next: longer, or up to a few times the next switch seen when this one was cut at a
+            // switch, or the rest of the ray when that is not much longer.
+            s = so.growth * len;
+            if (len < proposed && so.next_factor > 0 && next_end < kInf) {
+                s = so.next_factor * (next_end - end);
+            }
+            if (so.tail > 0 && s > so.tail * (ray.tmax - t)) s = kInf;
+            continue;
+        }
+        if (!cont) {
+            // No bound on this segment (g undefined or not continuous somewhere in it): shrink.
+            const double shorter = s == kInf ? std::max(1.0, std::fabs(t)) / dn : len / 8;
             if (!(shorter > 0) || !(detail::add_up(t, shorter) > t)) return unknown(t);
             s = shorter;
             continue;
         }
-        // δ: |g(t + τ)| ≥ m − λτ > 0 for τ < δ = m/λ (t units).
-        const double delta = detail::div_down(m, lam);
-        // Hit: |f|/λ_space < epsilon with λ_space = λ/‖d‖ ⇒ δ·‖d‖ < epsilon (up to rounding).
-        if (delta * dn < opt.epsilon) {
-            r.status = Status::Hit;
-            r.t_lo = r.t_hi = r.t = t;
-            return r;
+        const double delta = st.delta, tau = st.tau;
+        // A zero is proven in (t, t + τ] and none lies in [t, t + δ).
+        if (tau < kInf && tau - delta <= eps_t) {
+            return hit(detail::add_down(t, delta), detail::add_up(t, tau));
         }
-        if (delta >= seg_hi) {
-            if (end >= ray.tmax) break;  // [t, tmax] free
-            t = end;
-            s = 2 * seg_lo;
-            m = -1;
+        if (tau == kInf && delta < eps_t && len <= 4 * eps_t) return hit(t, t);  // approximate
+        const double next = detail::add_down(t, delta);
+        if (!(next > t)) {
+            // The step vanished: retry on a shorter segment, or give up at the spacing of doubles.
+            if (len <= 4 * eps_t || !(len > 0)) return delta < eps_t ? hit(t, t) : unknown(t);
+            s = len * so.shrink;
             continue;
         }
-        const double next = detail::add_down(t, delta);
-        if (!(next > t)) return unknown(t);  // the step vanished below the spacing of doubles
         t = next;
-        m = -1;
-        s = std::max(2 * delta, seg_lo / 2);
+        s = tau < kInf ? (tau - delta) * 1.0000001
+                       : std::max(so.growth_partial * delta, len * so.shrink);
     }
     r.status = Status::Miss;
     return r;
+}
+
+RayResult segment_trace(const expr::Tape& tape, const Ray& ray, const TraceOptions& options) {
+    return segment_trace(tape, ray, options, SegmentOptions{});
+}
+
+std::vector<SegmentOptions> segment_presets() {
+    std::vector<SegmentOptions> v(7);
+    v[1].name = "fast";  // also prune long pruned lists by an interval sweep
+    v[1].sweep_pruned_above = 2000;
+    v[2].name = "no-switch";
+    v[2].switch_floor = 0;
+    v[3].name = "1st-order";
+    v[3].second_order = false;
+    v[4].name = "no-prune";
+    v[4].prune = false;
+    v[5].name = "no-cert";
+    v[5].certify = false;
+    // Galin's step rule alone: first-order bounds, no switch cuts, growth 1.5.
+    v[6].name = "galin";
+    v[6].second_order = false;
+    v[6].switch_floor = 0;
+    v[6].growth = v[6].growth_partial = 1.5;
+    v[6].next_factor = v[6].tail = 0;
+    return v;
 }
 
 }  // namespace certray::tracers
