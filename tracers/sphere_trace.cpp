@@ -88,7 +88,8 @@ RayResult trace_distance(const DistanceAt& distance, const EstimateAt& estimate,
 
     double t = ray.tmin;
     double t_prev = t, r_prev = 0;
-    bool pending = false;  // the step into t was over-relaxed and is not yet verified
+    bool positive_prev = true;  // the sign of g at t_prev
+    bool pending = false;       // the step into t was over-relaxed and is not yet verified
     while (true) {
         if (r.evals.total() >= opt.budget) return unknown(pending ? t_prev : t);
         const Interval v = distance(t, r.evals);  // space units, sign of g
@@ -104,7 +105,11 @@ RayResult trace_distance(const DistanceAt& distance, const EstimateAt& estimate,
         if (pending) {
             pending = false;
             const double gap = (Interval(t) - Interval(t_prev)).upper();
-            if (detail::add_down(r_prev, rad) < gap) {
+            // The free radii are open balls (a root may sit at exactly |g|/λ), so they must
+            // overlap strictly — and g must keep its sign, or a root lies between.
+            const bool positive = v.lower() > 0;
+            if (!(detail::add_down(r_prev, rad) > gap) || positive != positive_prev ||
+                (!positive && !(v.upper() < 0))) {
                 // Keinert: the spheres do not overlap; go back and step plainly from here on.
                 t = detail::add_down(t_prev, r_prev);
                 relaxed = false;
@@ -134,6 +139,7 @@ RayResult trace_distance(const DistanceAt& distance, const EstimateAt& estimate,
         }
         t_prev = t;
         r_prev = rad;
+        positive_prev = v.lower() > 0;
         t = next;
     }
     r.status = Status::Miss;

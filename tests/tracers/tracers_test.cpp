@@ -143,6 +143,20 @@ TEST(Tracers, ThinShellSkippedByMarchFoundBySphereTracing) {
     }
 }
 
+TEST(Tracers, OverRelaxedStepAcrossTheSurfaceIsTakenBack) {
+    // Unit sphere, λ = 1, from z = −3 head-on: |f| = 2 at t = 0, so κ = 0.5 jumps to t = 3 (the
+    // centre, |f| = 1). The free balls [−5, −1] and [−1, 1] only touch, at the root z = −1, and f
+    // changed sign: Keinert's check must step back and find the root t = 2, not answer a miss.
+    const Tape s = tape_of(kSphere);
+    TraceOptions o;
+    o.kappa = 0.5;
+    const Ray head_on{{0, 0, -3}, {0, 0, 1}, 0, 10};
+    const RayResult r = enhanced_trace(s, head_on, 1.0, o);
+    ASSERT_EQ(r.status, Status::Hit);
+    EXPECT_LE(r.t, 2.0);
+    EXPECT_GE(r.t, 2.0 - 1e-6);
+}
+
 TEST(Tracers, BrokenLambdaOvershoots) {
     // λ/2 = 0.5 on the unit sphere from (0, 0, −3.5): the first step is 2·2.5 = 5 > 2.5, the
     // first root — sphere tracing jumps past the sphere and reports a miss. The never-past-the-
