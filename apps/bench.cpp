@@ -600,10 +600,10 @@ void peer_segment(const BenchOptions& o, Study& st) {
     try {
         tape = std::make_unique<expr::Tape>(expr::load_graph_file(p.string()));
     } catch (const std::exception& e) {
-        md += "TODO (lead): " + p.string() + " cannot be loaded yet (" + e.what() +
-              "); rerun `certray bench` once the .txt importer lands. Published: the authors' "
-              "segment tracing about 5.4 evaluations per ray, sphere tracing with the global "
-              "Lipschitz constant about 26,000.\n\n";
+        md += p.string() + " cannot be loaded (" + e.what() +
+              "): the segment-tracing peer is skipped. Published: the authors' segment tracing "
+              "about 5.4 evaluations per ray, sphere tracing with the global Lipschitz constant "
+              "about 26,000.\n\n";
         st.notes.push_back("segment-tracing peer: particles.txt not loadable");
         return;
     }

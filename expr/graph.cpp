@@ -323,6 +323,34 @@ NodeId Graph::pow(NodeId a, std::uint32_t n) {
     return insert(node);
 }
 
+NodeId Graph::add(Op op, NodeId a, NodeId b, double value, std::uint32_t n) {
+    switch (op) {
+        case Op::Const:
+            return constant(value);
+        case Op::VarX:
+        case Op::VarY:
+        case Op::VarZ:
+            return var(static_cast<int>(op) - static_cast<int>(Op::VarX));
+        case Op::Pow:
+            return pow(a, n);
+        default:
+            return arity(op) == 1 ? unary(op, a) : binary(op, a, b);
+    }
+}
+
+NodeId Graph::copy(const Graph& from, NodeId root, const std::array<NodeId, 3>& vars) {
+    std::unordered_map<std::uint32_t, NodeId> map;
+    for (const NodeId id : from.topological_order(root)) {
+        const Node& n = from.node(id);
+        const bool is_var = n.op == Op::VarX || n.op == Op::VarY || n.op == Op::VarZ;
+        map[id.value] =
+            is_var ? vars[static_cast<int>(n.op) - static_cast<int>(Op::VarX)]
+                   : add(n.op, n.a.valid() ? map.at(n.a.value) : NodeId{},
+                         n.b.valid() ? map.at(n.b.value) : NodeId{}, n.constant, n.exponent);
+    }
+    return map.at(root.value);
+}
+
 void Graph::set_output(NodeId id) {
     check_child(id);
     output_ = id;

@@ -11,6 +11,7 @@
 // (mkeeter/fidget) `Context`; DESIGN.md "The flow of data".
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -61,6 +62,13 @@ class Graph {
     NodeId binary(Op op, NodeId a, NodeId b);
     /// The node for aⁿ (n ≥ 0); n = 1 gives `a`, n = 2 gives square(a).
     NodeId pow(NodeId a, std::uint32_t n);
+
+    /// The node op(a, b) through the constructors above (simplified and deduplicated): `value` is
+    /// the constant of Const, `n` the exponent of Pow; unused operands are ignored.
+    NodeId add(Op op, NodeId a, NodeId b, double value, std::uint32_t n);
+    /// Copies the subexpression `root` of `from` into this graph, each variable (axis i) replaced
+    /// by vars[i], a node of this graph; returns the copy of `root`. Iterative.
+    NodeId copy(const Graph& from, NodeId root, const std::array<NodeId, 3>& vars);
 
     /// The node with id `id` (must be < size()).
     const Node& node(NodeId id) const { return nodes_.at(id.value); }

@@ -97,6 +97,14 @@ inline GradBound finish(GradBound r) {
     return r;
 }
 
+/// The result with enclosure d and Lipschitz bound lip (no root form), tightened.
+inline GradBound bounded(const GradBound::D& d, double lip) {
+    GradBound r;
+    r.d = d;
+    r.lip = lip;
+    return finish(r);
+}
+
 /// The Gram matrix ∇g∇gᵀ of one function whose gradient enclosure is v.
 inline std::array<UpInterval, 6> outer(const std::array<UpInterval, 3>& v) {
     return {square(v[0]), square(v[1]), square(v[2]), v[0] * v[1], v[0] * v[2], v[1] * v[2]};
@@ -132,10 +140,7 @@ inline GradBound operator+(const GradBound& a, const GradBound& b) {
 }
 
 inline GradBound operator-(const GradBound& a, const GradBound& b) {
-    GradBound r;
-    r.d = a.d - b.d;
-    r.lip = a.lip + b.lip;
-    return detail::finish(r);
+    return detail::bounded(a.d - b.d, a.lip + b.lip);
 }
 
 inline GradBound operator*(const GradBound& a, const GradBound& b) {
@@ -169,12 +174,7 @@ inline GradBound operator/(const GradBound& a, const GradBound& b) {
     return detail::finish(r);
 }
 
-inline GradBound abs(const GradBound& a) {
-    GradBound r;
-    r.d = abs(a.d);
-    r.lip = a.lip;
-    return detail::finish(r);
-}
+inline GradBound abs(const GradBound& a) { return detail::bounded(abs(a.d), a.lip); }
 
 /// g² is a root form with Gram matrix ∇g∇gᵀ.
 inline GradBound square(const GradBound& a) {
@@ -209,41 +209,23 @@ inline GradBound pow(const GradBound& a, unsigned n) {
 
 /// √u: with a root form, Lipschitz ≤ √λmax(gram) even where u vanishes.
 inline GradBound sqrt(const GradBound& a) {
-    GradBound r;
-    r.d = sqrt(a.d);
-    r.lip = a.has_form ? detail::gram_root(a.gram) : GradBound::kInf;
-    return detail::finish(r);
+    return detail::bounded(sqrt(a.d), a.has_form ? detail::gram_root(a.gram) : GradBound::kInf);
 }
 
 inline GradBound exp(const GradBound& a) {
-    GradBound r;
-    r.d = exp(a.d);
-    r.lip = detail::mul_bound(detail::magnitude(r.d.a), a.lip);
-    return detail::finish(r);
+    const GradBound::D d = exp(a.d);
+    return detail::bounded(d, detail::mul_bound(detail::magnitude(d.a), a.lip));
 }
 
 inline GradBound log(const GradBound& a) {
-    GradBound r;
-    r.d = log(a.d);
-    r.lip = a.d.a.lower() > 0 ? a.lip / a.d.a.lower() : GradBound::kInf;
-    return detail::finish(r);
+    return detail::bounded(log(a.d), a.d.a.lower() > 0 ? a.lip / a.d.a.lower() : GradBound::kInf);
 }
 
 /// |sin′| ≤ 1.
-inline GradBound sin(const GradBound& a) {
-    GradBound r;
-    r.d = sin(a.d);
-    r.lip = a.lip;
-    return detail::finish(r);
-}
+inline GradBound sin(const GradBound& a) { return detail::bounded(sin(a.d), a.lip); }
 
 /// |cos′| ≤ 1.
-inline GradBound cos(const GradBound& a) {
-    GradBound r;
-    r.d = cos(a.d);
-    r.lip = a.lip;
-    return detail::finish(r);
-}
+inline GradBound cos(const GradBound& a) { return detail::bounded(cos(a.d), a.lip); }
 
 namespace detail {
 

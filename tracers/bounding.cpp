@@ -7,7 +7,6 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
-#include <unordered_map>
 
 #include "expr/derived.h"
 #include "expr/eval.h"
@@ -24,29 +23,7 @@ using Box = BoundedScene::Box;
 /// The tape of the subexpression `root` of g alone (its nodes copied into a fresh graph).
 expr::Tape sub_tape(const expr::Graph& g, expr::NodeId root) {
     expr::Graph out;
-    std::unordered_map<std::uint32_t, expr::NodeId> map;
-    for (const expr::NodeId id : g.topological_order(root)) {
-        const expr::Node& n = g.node(id);
-        expr::NodeId m;
-        switch (n.op) {
-            case expr::Op::Const:
-                m = out.constant(n.constant);
-                break;
-            case expr::Op::VarX:
-            case expr::Op::VarY:
-            case expr::Op::VarZ:
-                m = out.var(static_cast<int>(n.op) - static_cast<int>(expr::Op::VarX));
-                break;
-            case expr::Op::Pow:
-                m = out.pow(map.at(n.a.value), n.exponent);
-                break;
-            default:
-                m = expr::arity(n.op) == 1 ? out.unary(n.op, map.at(n.a.value))
-                                           : out.binary(n.op, map.at(n.a.value), map.at(n.b.value));
-        }
-        map[id.value] = m;
-    }
-    out.set_output(map.at(root.value));
+    out.set_output(out.copy(g, root, {out.var(0), out.var(1), out.var(2)}));
     return expr::Tape(out);
 }
 
@@ -56,22 +33,9 @@ expr::Graph graph_of(const expr::Tape& tape) {
     std::vector<expr::NodeId> id(tape.ssa().size());
     for (std::size_t i = 0; i < tape.ssa().size(); ++i) {
         const expr::Instr& in = tape.ssa()[i];
-        switch (in.op) {
-            case expr::Op::Const:
-                id[i] = g.constant(in.imm);
-                break;
-            case expr::Op::VarX:
-            case expr::Op::VarY:
-            case expr::Op::VarZ:
-                id[i] = g.var(static_cast<int>(in.op) - static_cast<int>(expr::Op::VarX));
-                break;
-            case expr::Op::Pow:
-                id[i] = g.pow(id[in.a], in.b);
-                break;
-            default:
-                id[i] = expr::arity(in.op) == 1 ? g.unary(in.op, id[in.a])
-                                                : g.binary(in.op, id[in.a], id[in.b]);
-        }
+        const int arity = expr::arity(in.op);
+        id[i] = g.add(in.op, arity >= 1 ? id[in.a] : expr::NodeId{},
+                      arity == 2 ? id[in.b] : expr::NodeId{}, in.imm, in.b);
     }
     if (!id.empty()) g.set_output(id.back());
     return g;
@@ -230,7 +194,7 @@ std::uint32_t BoundedScene::leaf(const expr::Graph& g, expr::NodeId id) {
     Leaf l{sub_tape(g, id), kInf};
     Node n{Kind::Leaf, {}, {}, static_cast<std::uint32_t>(leaves_.size()), 0};
     solid_box(l.tape, bounds_, options_, n.lo, n.hi);
-    if (n.lo[0] <= n.hi[0]) {
+    if (!n.empty()) {
         // λ over the box inflated by the margin: every point where the leaf is evaluated, and
         // the segment from it to its nearest surface point in the bounds, lie there.
         Box region;
@@ -245,7 +209,7 @@ std::uint32_t BoundedScene::leaf(const expr::Graph& g, expr::NodeId id) {
 }
 
 double BoundedScene::box_distance(const Node& n, const Box& p) const {
-    if (!(n.lo[0] <= n.hi[0]) || !(n.lo[1] <= n.hi[1]) || !(n.lo[2] <= n.hi[2])) return kInf;
+    if (n.empty()) return kInf;
     // In round-to-nearest: the gaps (one rounding each), their squares, the sum and the root
     // carry a relative error below 6·2⁻⁵³ (squares that underflow only lower the result), so
     // scaling by 1 − 10⁻¹⁵ rounds the distance down; an overflow falls back to the largest gap.
@@ -277,47 +241,20 @@ Interval unknown_distance() {
 
 }  // namespace
 
-namespace {
-
-/// v / lambda (lambda > 0, finite) enclosed outward: the quotients in round-to-nearest, moved one
-/// double outward (a correctly rounded result is within half an ulp of the real quotient).
-Interval divide(const Interval& v, double lambda) {
-    return Interval(std::nextafter(v.lower() / lambda, -kInf),
-                    std::nextafter(v.upper() / lambda, kInf));
-}
-
-/// min(|d|, rho) with d's sign, as an enclosure (d certainly non-zero).
-Interval clamp_magnitude(const Interval& d, double rho) {
-    if (d.lower() > 0) return Interval(std::min(d.lower(), rho), std::min(d.upper(), rho));
-    return Interval(std::max(d.lower(), -rho), std::max(d.upper(), -rho));
-}
-
-}  // namespace
-
 Interval BoundedScene::leaf_distance(const Leaf& l, const Box& p, double db, double rho,
                                      std::uint64_t& leaf_evals) const {
     thread_local expr::Evaluator<Interval> eval;
     const Interval v = eval(l.tape, p);
     ++leaf_evals;
-    if (v.is_empty() || !v.defined) return unknown_distance();
-    if (l.lambda == 0) {  // constant on the region: the sign says everything
-        if (v.lower() > 0) return Interval(kInf);
-        if (v.upper() < 0) return Interval(-kInf);
-        return v;
-    }
-    Interval d = l.lambda < kInf ? floor_at(divide(v, l.lambda), db) : unknown_distance();
-    const bool usable = d.defined && !d.is_empty();
-    if (rho > 0 && (!usable || detail::mignitude(d) < rho / 2) && !contains(v, 0.0)) {
-        Box local;
-        for (int i = 0; i < 3; ++i) {
-            local[i] = Interval(std::nextafter(p[i].lower() - rho, -kInf),
-                                std::nextafter(p[i].upper() + rho, kInf));
-        }
-        const double lam = expr::lipschitz_bound(l.tape, local);
+    if (!detail::usable(v)) return unknown_distance();
+    Interval d =
+        l.lambda < kInf ? floor_at(detail::distance_bound(v, l.lambda), db) : unknown_distance();
+    if (rho > 0 && (!detail::usable(d) || detail::mignitude(d) < rho / 2) && !contains(v, 0.0)) {
         ++leaf_evals;
-        if (lam > 0 && lam < kInf) {
-            const Interval near = clamp_magnitude(divide(v, lam), rho);
-            if (!usable || detail::mignitude(near) > detail::mignitude(d)) d = near;
+        const Interval near = detail::local_distance_bound(l.tape, p, v, rho);
+        if (detail::usable(near) &&
+            (!detail::usable(d) || detail::mignitude(near) > detail::mignitude(d))) {
+            d = near;
         }
     }
     return d;
@@ -375,13 +312,12 @@ BoundedScene::Restricted BoundedScene::restrict_to(const Ray& ray) const {
     };
     auto visit = [&](auto& self, std::uint32_t k) -> Part {
         const Node& n = nodes_[k];
-        Box box;
-        const bool empty = !(n.lo[0] <= n.hi[0] && n.lo[1] <= n.hi[1] && n.lo[2] <= n.hi[2]);
-        if (!empty) {
-            for (int i = 0; i < 3; ++i) box[i] = Interval(n.lo[i], n.hi[i]);
+        Interval hit = Interval::empty();
+        if (!n.empty()) {
+            hit = ray_box(ray, {Interval(n.lo[0], n.hi[0]), Interval(n.lo[1], n.hi[1]),
+                                Interval(n.lo[2], n.hi[2])});
         }
-        if (empty || ray_box(ray, box).is_empty() || ray_box(ray, box).upper() < ray.tmin ||
-            ray_box(ray, box).lower() > ray.tmax) {
+        if (hit.is_empty() || hit.upper() < ray.tmin || hit.lower() > ray.tmax) {
             return {+1, 0};  // the solid's box is missed: f > 0 on the whole segment
         }
         switch (n.kind) {
@@ -423,7 +359,9 @@ BoundedScene::Restricted BoundedScene::restrict_to(const Ray& ray) const {
     if (root.sign == 0) {
         // Keep what the root's value depends on (an operand absorbed by a constant sign may have
         // emitted instructions first); renumbered, the root comes last.
-        std::vector<bool> live(root.at + 1, false);
+        thread_local std::vector<bool> live;
+        thread_local std::vector<std::uint32_t> renamed;
+        live.assign(root.at + 1, false);
         live[root.at] = true;
         for (std::uint32_t j = root.at + 1; j-- > 0;) {
             if (!live[j]) continue;
@@ -431,8 +369,8 @@ BoundedScene::Restricted BoundedScene::restrict_to(const Ray& ray) const {
             if (arity >= 1) live[ssa[j].a] = true;
             if (arity == 2) live[ssa[j].b] = true;
         }
-        std::vector<std::uint32_t> renamed(root.at + 1, 0);
-        std::vector<expr::Instr> kept;
+        renamed.assign(root.at + 1, 0);
+        std::vector<expr::Instr> kept;  // moved into the tape
         for (std::uint32_t j = 0; j <= root.at; ++j) {
             if (!live[j]) continue;
             expr::Instr in = ssa[j];
@@ -506,11 +444,7 @@ RayResult bounded_sphere_trace(const BoundedScene& scene, const Ray& r, const Tr
     // than half of it); then twice the previous bound.
     double previous = scene.margin() / 2;
     auto distance = [&](double t, EvalCounts&) {
-        Box p;
-        for (int i = 0; i < 3; ++i) {
-            const double x = std::fma(t, ray.d[i], ray.o[i]);
-            p[i] = Interval(std::nextafter(x, -kInf), std::nextafter(x, kInf));
-        }
+        const Box p = detail::point_box(ray, t);
         const double rho = std::max(16 * opt.epsilon, 2 * previous);
         const Interval d = scene.distance(p, leaf_evals, rho);
         if (d.defined && !d.is_empty()) previous = detail::mignitude(d);

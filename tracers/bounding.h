@@ -93,6 +93,7 @@ class BoundedScene {
         Kind kind = Kind::Leaf;
         std::array<double, 3> lo{}, hi{};  ///< the solid's box (lo > hi: empty)
         std::uint32_t a = 0, b = 0;        ///< children (Neg: a); Leaf: a = leaf index
+        bool empty() const { return !(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2]); }
     };
     struct Leaf {
         expr::Tape tape;

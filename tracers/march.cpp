@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "expr/derived.h"
 #include "expr/eval.h"
 
 namespace certray::tracers {
@@ -32,6 +33,31 @@ std::array<Interval, 3> point_box(const Ray& ray, double t) {
         p[i] = exact ? Interval(x) : Interval(std::nextafter(x, -kInf), std::nextafter(x, kInf));
     }
     return p;
+}
+
+Interval distance_bound(const Interval& v, double lambda) {
+    if (lambda == 0) {
+        if (v.lower() > 0) return Interval(kInf);
+        if (v.upper() < 0) return Interval(-kInf);
+        return v;
+    }
+    // Quotients in round-to-nearest are within half an ulp: one double outward encloses them.
+    return Interval(std::nextafter(v.lower() / lambda, -kInf),
+                    std::nextafter(v.upper() / lambda, kInf));
+}
+
+Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval, 3>& p,
+                              const Interval& v, double rho) {
+    std::array<Interval, 3> local;
+    for (int i = 0; i < 3; ++i) {
+        local[i] = Interval(std::nextafter(p[i].lower() - rho, -kInf),
+                            std::nextafter(p[i].upper() + rho, kInf));
+    }
+    const double lam = expr::lipschitz_bound(tape, local);
+    if (!(lam > 0 && lam < kInf)) return Interval::empty();
+    const Interval q = distance_bound(v, lam);
+    if (q.lower() > 0) return Interval(std::min(q.lower(), rho), std::min(q.upper(), rho));
+    return Interval(std::max(q.lower(), -rho), std::max(q.upper(), -rho));
 }
 
 Interval g_at(const expr::Tape& tape, const Ray& ray, double t) {

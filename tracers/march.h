@@ -47,6 +47,20 @@ std::array<Interval, 3> point_box(const Ray& ray, double t);
 /// min{|x| : x ∈ v}, the mignitude (0 if v contains 0); NaN if v is empty.
 double mignitude(const Interval& v);
 
+/// True when v is non-empty and decorated defined.
+inline bool usable(const Interval& v) { return !v.is_empty() && v.defined; }
+
+/// The signed distance bound v/λ of a value v of f with a Lipschitz bound λ (finite, ≥ 0), rounded
+/// outward; for λ = 0 (f constant on the region) ±inf by v's sign, or v itself if it may be 0.
+Interval distance_bound(const Interval& v, double lambda);
+
+/// A distance bound from a *local* Lipschitz bound: λ_loc over the box p inflated by rho, and
+/// min(|v|/λ_loc, rho) with v's sign (v: f over p, certainly non-zero) — a surface point within rho
+/// is reached inside that box, a farther one is farther than rho. Not usable (empty) when λ_loc is
+/// not finite and positive. One interval-gradient evaluation of the tape.
+Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval, 3>& p,
+                              const Interval& v, double rho);
+
 /// An upper bound on ‖d‖₂ (rounded upward).
 double norm_up(const std::array<double, 3>& d);
 

@@ -30,29 +30,12 @@ Interval tape_distance(const expr::Tape& tape, const Ray& ray, double lambda, do
     const std::array<Interval, 3> p = detail::point_box(ray, t);
     thread_local expr::Evaluator<Interval> eval;
     const Interval v = eval(tape, p);
-    if (v.is_empty() || !v.defined) return v;
-    if (lambda == 0) {  // g is constant; its sign decides everything
-        if (v.lower() > 0) return Interval(kInf);
-        if (v.upper() < 0) return Interval(-kInf);
-        return v;
-    }
-    Interval d = v / Interval(lambda);
-    if (detail::mignitude(d) < epsilon && !contains(v, 0.0)) {
-        const double rho = 16 * epsilon;
-        std::array<Interval, 3> local;
-        for (int i = 0; i < 3; ++i) {
-            local[i] = Interval(std::nextafter(p[i].lower() - rho, -kInf),
-                                std::nextafter(p[i].upper() + rho, kInf));
-        }
-        const double lam = expr::lipschitz_bound(tape, local);
+    if (!detail::usable(v)) return v;
+    Interval d = detail::distance_bound(v, lambda);
+    if (lambda > 0 && detail::mignitude(d) < epsilon && !contains(v, 0.0)) {
         ++evals.gradient;
-        if (lam > 0 && lam < lambda) {
-            const Interval q = v / Interval(lam);
-            const Interval near =
-                q.lower() > 0 ? Interval(std::min(q.lower(), rho), std::min(q.upper(), rho))
-                              : Interval(std::max(q.lower(), -rho), std::max(q.upper(), -rho));
-            if (detail::mignitude(near) > detail::mignitude(d)) d = near;
-        }
+        const Interval near = detail::local_distance_bound(tape, p, v, 16 * epsilon);
+        if (detail::usable(near) && detail::mignitude(near) > detail::mignitude(d)) d = near;
     }
     return d;
 }

@@ -50,33 +50,7 @@ Brute brute(const expr::Tape& tape, const Image2dOptions& o) {
 /// The graph with z replaced by the constant c (random DAGs read all three variables).
 expr::Graph without_z(const expr::Graph& g, double c) {
     expr::Graph out;
-    std::vector<expr::NodeId> map(g.size());
-    for (expr::NodeId id : g.topological_order()) {
-        const expr::Node& n = g.node(id);
-        expr::NodeId r;
-        switch (n.op) {
-            case expr::Op::Const:
-                r = out.constant(n.constant);
-                break;
-            case expr::Op::VarX:
-                r = out.var(0);
-                break;
-            case expr::Op::VarY:
-                r = out.var(1);
-                break;
-            case expr::Op::VarZ:
-                r = out.constant(c);
-                break;
-            case expr::Op::Pow:
-                r = out.pow(map[n.a.value], n.exponent);
-                break;
-            default:
-                r = expr::arity(n.op) == 1 ? out.unary(n.op, map[n.a.value])
-                                           : out.binary(n.op, map[n.a.value], map[n.b.value]);
-        }
-        map[id.value] = r;
-    }
-    out.set_output(map[g.output().value]);
+    out.set_output(out.copy(g, g.output(), {out.var(0), out.var(1), out.constant(c)}));
     return out;
 }
 
