@@ -132,9 +132,29 @@ void run(const std::vector<Instr>& instrs, const std::array<T, 3>& p, T* r, Obse
     }
 }
 
-/// Evaluator<Batch>'s walk (expr/eval_batch.cpp): leaves in r[tape.output()] what run<Batch>
-/// would, lane i bit for bit run<double> at lane i of p[0..2]; vectorised for the running CPU.
-void run_batch(const Tape& tape, const Batch* p, Batch* r);
+/// A tape's instructions as the batch walk runs them (expr/eval_batch.cpp): a constant read by
+/// add, sub, mul, div, min or max is folded into that instruction (an immediate operand), and a
+/// Const instruction whose every reader took it so is dropped. Same registers, same results bit
+/// for bit. `serial` is the Tape::serial() it was made from (0: none yet).
+struct BatchCode {
+    std::uint64_t serial = 0;
+    /// Op bytes are the walk's dispatch keys (eval_batch.cpp), not Op values: run them only
+    /// through run_batch(const BatchCode&, …).
+    std::vector<Instr> instrs;
+};
+/// Makes `code` the batch code of `tape` (reusing its storage).
+void compile_batch(const Tape& tape, BatchCode& code);
+
+/// The batch walk: runs [begin, end) — a tape's instructions or an SSA list (register = index) —
+/// or a tape's batch code over kBatch lanes; lane i of the last instruction's register is bit for
+/// bit what run<double> gives at lane i of p[0..2]. Vectorised for the running CPU. Other
+/// registers may be left stale. `lanes`: how many leading lanes matter (−1: all); when that is
+/// at most kBatch / 2, only the first kBatch / 2 lanes are computed (the others keep stale
+/// values).
+void run_batch(const Instr* begin, const Instr* end, const Batch* p, Batch* r, int lanes = -1);
+void run_batch(const BatchCode& code, const Batch* p, Batch* r);
+
+struct NoBatchCode {};
 
 }  // namespace detail
 
@@ -150,7 +170,10 @@ class Evaluator {
     T operator()(const Tape& tape, const std::array<T, 3>& p) {
         if (regs_.size() < tape.registers()) regs_.resize(tape.registers());
         if constexpr (std::is_same_v<T, Batch>) {
-            detail::run_batch(tape, p.data(), regs_.data());
+            if (code_.serial != tape.serial() || tape.serial() == 0) {
+                detail::compile_batch(tape, code_);
+            }
+            detail::run_batch(code_, p.data(), regs_.data());
             return regs_[tape.output()];
         } else {
             [[maybe_unused]] typename Fast<T>::Scope scope;
@@ -162,6 +185,9 @@ class Evaluator {
 
   private:
     std::vector<Inner> regs_;
+    [[no_unique_address]] std::conditional_t<std::is_same_v<T, Batch>, detail::BatchCode,
+                                             detail::NoBatchCode>
+        code_;
 };
 
 /// One-shot evaluation (allocates its registers; use an Evaluator in loops).

@@ -1,10 +1,40 @@
 // expr/tape.cpp — compiling a Graph to SSA and allocating registers by linear scan.
 #include "expr/tape.h"
 
+#include <atomic>
 #include <stdexcept>
 #include <unordered_map>
+#include <utility>
 
 namespace certray::expr {
+namespace {
+
+std::uint64_t next_serial() noexcept {
+    static std::atomic<std::uint64_t> counter{0};
+    return counter.fetch_add(1, std::memory_order_relaxed) + 1;
+}
+
+}  // namespace
+
+Tape::Tape(Tape&& o) noexcept
+    : ssa_(std::move(o.ssa_)),
+      instrs_(std::move(o.instrs_)),
+      registers_(std::exchange(o.registers_, 0)),
+      output_(std::exchange(o.output_, 0)),
+      serial_(std::exchange(o.serial_, 0)) {}
+
+Tape& Tape::operator=(Tape&& o) noexcept {
+    if (this != &o) {
+        ssa_ = std::move(o.ssa_);
+        instrs_ = std::move(o.instrs_);
+        o.ssa_.clear();
+        o.instrs_.clear();
+        registers_ = std::exchange(o.registers_, 0);
+        output_ = std::exchange(o.output_, 0);
+        serial_ = std::exchange(o.serial_, 0);
+    }
+    return *this;
+}
 
 Tape::Tape(const Graph& g) {
     if (!g.output().valid()) throw std::invalid_argument("Tape: the graph has no output");
@@ -94,6 +124,7 @@ void Tape::allocate_registers() {
     }
     registers_ = count;
     output_ = reg[n - 1];
+    serial_ = next_serial();
 }
 
 }  // namespace certray::expr

@@ -29,6 +29,11 @@ struct Instr {
 class Tape {
   public:
     Tape() = default;
+    Tape(const Tape&) = default;
+    Tape& operator=(const Tape&) = default;
+    /// A moved-from tape is empty, with serial 0.
+    Tape(Tape&& o) noexcept;
+    Tape& operator=(Tape&& o) noexcept;
     /// Compiles the part of `g` reachable from its output. Throws std::invalid_argument when the
     /// graph has no output.
     explicit Tape(const Graph& g);
@@ -50,6 +55,10 @@ class Tape {
     /// instruction is the output), allocating registers.
     static Tape from_ssa(std::vector<Instr> ssa);
 
+    /// An identity for caches of what is derived from the instructions (the batch walk's code,
+    /// expr/eval.h): copies share it, tapes built separately never do, an empty tape has 0.
+    std::uint64_t serial() const noexcept { return serial_; }
+
   private:
     void allocate_registers();
 
@@ -57,6 +66,7 @@ class Tape {
     std::vector<Instr> instrs_;
     std::uint32_t registers_ = 0;
     std::uint32_t output_ = 0;
+    std::uint64_t serial_ = 0;
 };
 
 }  // namespace certray::expr

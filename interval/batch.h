@@ -1,4 +1,4 @@
-// interval/batch.h — Batch: kBatch doubles evaluated in lock-step (one tape walk, 64 points).
+// interval/batch.h — Batch: kBatch doubles evaluated in lock-step (one tape walk, 128 points).
 //
 // Contract: every operation applies the corresponding double operation of interval/number.h to
 // each lane independently, so lane i of a Batch result is bit for bit what the double evaluator
@@ -6,8 +6,9 @@
 // arithmetic, sqrt, abs, min and max are vectorised by Eigen (IEEE-exact, so vectorising changes no
 // bit); exp, log, sin and cos call the libm function per lane, because Eigen's vectorised versions
 // are polynomial approximations that differ from libm in the last bits.
-// Use: expr::Evaluator<Batch> runs a tape over 64 points per walk, amortising the dispatch of each
-// instruction over the lanes. It does not go through these operators: its walk is
+// Use: expr::Evaluator<Batch> runs a tape over 128 points per walk, amortising the dispatch of
+// each instruction over the lanes (128 rather than 64: 25–45 % less time per point with AVX-512,
+// docs/benchmarks.md "Batch code"). It does not go through these operators: its walk is
 // expr/eval_batch.cpp, one copy per instruction set (SSE2, AVX2, AVX-512, chosen at run time,
 // expr/eval_batch.h) under the same contract; the operators serve generic code (detail::run<Batch>)
 // and make Batch a Number. Batch is 64-byte aligned so that no vector load straddles a cache line
@@ -23,11 +24,11 @@
 namespace certray {
 
 /// Number of lanes of a Batch.
-inline constexpr int kBatch = 64;
+inline constexpr int kBatch = 128;
 
 /// The result of a lane-by-lane operation, not yet stored: an Eigen expression that assigning to
 /// a Batch evaluates straight into its lanes. The evaluator's `r[out] = r[a] + r[b]` thus writes
-/// each lane once, with no 512-byte temporary and copy (coefficient-wise operations are safe
+/// each lane once, with no 1 KiB temporary and copy (coefficient-wise operations are safe
 /// when `out` is also an operand). Converts to a Batch wherever a value is needed. Holds
 /// references to its operands: store it in a Batch, never in `auto`.
 template <class E>

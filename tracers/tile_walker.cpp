@@ -124,13 +124,14 @@ void TileWalker::open(const Ssa& tape, const Rect& r, unsigned depth) {
 void TileWalker::leaf(const Ssa& tape, const Rect& r) {
     if (s_.slots.size() < tape.size()) s_.slots.resize(tape.size());
     load_centres(r);
-    expr::detail::run<Batch>(tape, {px_, py_, zero_}, s_.slots.data());
+    expr::detail::run_batch(tape.data(), tape.data() + tape.size(), centres_.data(),
+                            s_.slots.data(), static_cast<int>(r.w * r.h));
     store(r, s_.slots[tape.back().out]);
 }
 
 void TileWalker::leaf_full(const expr::Tape& tape, const Rect& r) {
     load_centres(r);
-    store(r, s_.batch(tape, {px_, py_, zero_}));
+    store(r, s_.batch(tape, centres_));
 }
 
 void TileWalker::fill(const Rect& r, Verdict v) {
@@ -150,13 +151,13 @@ void TileWalker::load_centres(const Rect& r) {
     int lane = 0;
     for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
         for (unsigned i = r.i0; i < r.i0 + r.w; ++i, ++lane) {
-            px_[lane] = xs_[i];
-            py_[lane] = ys_[j];
+            centres_[0][lane] = xs_[i];
+            centres_[1][lane] = ys_[j];
         }
     }
     for (int k = lane; k < kBatch; ++k) {
-        px_[k] = px_[0];
-        py_[k] = py_[0];
+        centres_[0][k] = centres_[0][0];
+        centres_[1][k] = centres_[1][0];
     }
 }
 

@@ -8,7 +8,8 @@
 // boxes spanned by their pixel centres (the same doubles the pixels are sampled at); a tile is
 // filled from its enclosure, or the list pruned to it from its lane (expr::prune_ssa), only when
 // every intermediate enclosure of its lane is bounded and defined (see verdict() in the .cpp).
-// Leaves of at most kBatch pixels are one Batch walk of their pruned list. Buffers are per depth
+// Leaves of at most kBatch pixels are one Batch walk of their pruned list (over half the lanes
+// when they fill only half: the 8×8 tiles). Buffers are per depth
 // and per walker: nothing is allocated once they have grown.
 // Reference: Duff 1992 (interval quadtrees); Keeter 2020 (per-tile pruning from the choices of the
 // tile's own evaluation); docs/theory/rendering.md.
@@ -116,7 +117,7 @@ class TileWalker {
     const std::vector<double>& ys_;
     Image2d& img_;
     WalkerScratch& s_;
-    Batch px_, py_, zero_{0.0};
+    std::array<Batch, 3> centres_{Batch{}, Batch{}, Batch{0.0}};  ///< x, y (and z = 0) per lane
 };
 
 }  // namespace certray::tracers::detail

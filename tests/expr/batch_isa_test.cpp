@@ -199,6 +199,103 @@ TEST(BatchIsa, TinyTapes) {
     }
 }
 
+/// The batch code (expr/eval.h, BatchCode) folds a constant read by add, sub, mul, div, min or
+/// max into that instruction as an immediate, in either operand slot, and drops its Const when no
+/// other instruction reads it. Every binary op with constants of every kind (signed zeros,
+/// subnormal, huge) on either side of every special value; a constant also read by sqrt (its Const
+/// must stay); both operands constant; one constant read at the start and at the end of a tape.
+TEST(BatchIsa, ImmediateOperandsInEitherSlot) {
+    const auto points = special_pairs();
+    const double consts[] = {0.0, -0.0, 5e-324, -DBL_MIN, 1.0, -2.5, 1e300, -DBL_MAX};
+    for (const auto& [bname, b] : binaries()) {
+        for (double c : consts) {
+            for (int shape = 0; shape < 5; ++shape) {
+                Graph g;
+                auto [x, y, z] = vars(g);
+                const Expr k = constant(g, c);
+                Expr f;
+                switch (shape) {
+                    case 0:
+                        f = b(x, k);  // immediate second
+                        break;
+                    case 1:
+                        f = b(k, x);  // immediate first
+                        break;
+                    case 2:
+                        f = b(b(k, x), sqrt(k));  // the Const is also read by sqrt
+                        break;
+                    case 3:
+                        f = b(b(x, k), b(k, constant(g, 0.375)));  // both operands constant
+                        break;
+                    default:
+                        f = b(b(b(x, k), square(y)), b(z, k));  // read early and late
+                        break;
+                }
+                g.set_output(f.id);
+                const Tape t(g);
+                for (const auto& p : points) {
+                    ASSERT_EQ(mismatch(t, p), "") << bname << " with " << c << " shape " << shape;
+                }
+            }
+        }
+    }
+    // The graph orders the operands of add, mul, min and max its own way; SSA lists built by
+    // hand put the constant in each slot of every binary op.
+    for (Op op : {Op::Add, Op::Sub, Op::Mul, Op::Div, Op::Min, Op::Max}) {
+        for (double c : consts) {
+            for (bool first : {true, false}) {
+                const Instr k{Op::Const, 0, 0, 0, c}, x{Op::VarX, 1, 0, 0, 0.0};
+                const Instr f{op, 2, first ? 0u : 1u, first ? 1u : 0u, 0.0};
+                const Tape t = Tape::from_ssa({k, x, f});
+                for (const auto& p : points) {
+                    ASSERT_EQ(mismatch(t, p), "")
+                        << name(op) << " with " << c << " first " << first;
+                }
+            }
+        }
+    }
+}
+
+/// An Evaluator<Batch> keeps the batch code of the last tape it ran (keyed by Tape::serial): it
+/// must follow whichever tape it is given — two tapes in turn, a copy, a tape assigned over, a
+/// moved tape. Lane i has x = i/4 − 8, so x − 1 and 3x are exact.
+TEST(BatchIsa, EvaluatorFollowsTheTapeItIsGiven) {
+    const auto make = [](bool minus) {
+        Graph g;
+        auto [x, y, z] = vars(g);
+        g.set_output((minus ? x - 1.0 : x * 3.0).id);
+        return Tape(g);
+    };
+    const Tape t1 = make(true), t2 = make(false);
+    ASSERT_NE(t1.serial(), t2.serial());
+    std::array<Batch, 3> p;
+    for (int i = 0; i < kBatch; ++i) {
+        p[0][i] = i / 4.0 - 8.0;
+        p[1][i] = p[2][i] = 0.0;
+    }
+    Evaluator<Batch> eb;
+    const auto check = [&](const Tape& t, bool minus, const char* what) {
+        const Batch r = eb(t, p);
+        for (int i = 0; i < kBatch; ++i) {
+            const double x = i / 4.0 - 8.0;
+            ASSERT_EQ(r[i], minus ? x - 1.0 : 3.0 * x) << what << " lane " << i;
+        }
+    };
+    check(t1, true, "t1");
+    check(t2, false, "t2");
+    check(t1, true, "t1 again");
+    Tape a = t1;
+    check(a, true, "copy of t1");
+    a = t2;
+    check(a, false, "t2 assigned over it");
+    Tape m = std::move(a);
+    EXPECT_EQ(a.serial(), 0u);  // NOLINT(bugprone-use-after-move): moved-from state is specified
+    EXPECT_EQ(a.size(), 0u);    // NOLINT(bugprone-use-after-move)
+    check(m, false, "moved");
+    a = make(true);
+    check(a, true, "a new tape in the moved-from one");
+}
+
 /// kBatch lanes of gen_double() values with NaN mixed in.
 rc::Gen<std::array<Batch, 3>> gen_lanes() {
     return rc::gen::exec([] {
@@ -217,6 +314,29 @@ RC_GTEST_PROP(BatchIsaProperty, RandomDagsMatchDoubleOnEveryCopy, ()) {
     const Tape t(*testing::gen_dag(40));
     const std::string m = mismatch(t, *gen_lanes());
     RC_ASSERT(m == "");
+}
+
+/// run_batch over a bare instruction list (the quadtree's leaves run their pruned SSA lists so):
+/// every register is written once, so no result stays unstored; the carried operands remain. Over
+/// all lanes and over the first half only.
+RC_GTEST_PROP(BatchIsaProperty, SsaListsMatchDoubleOnEveryCopy, ()) {
+    const Tape t(*testing::gen_dag(40));
+    const auto p = *gen_lanes();
+    IsaGuard guard;
+    Evaluator<double> ed;
+    const std::vector<Instr>& ssa = t.ssa();
+    std::vector<Batch> slots(ssa.size());
+    // All lanes, then only the first half (the walk the quadtree's 8×8 leaves use).
+    for (const int lanes : {-1, kBatch / 2}) {
+        for (BatchIsa isa : isas()) {
+            set_batch_isa(isa);
+            detail::run_batch(ssa.data(), ssa.data() + ssa.size(), p.data(), slots.data(), lanes);
+            for (int i = 0; i < (lanes < 0 ? kBatch : lanes); ++i) {
+                const double want = ed(t, std::array<double, 3>{p[0][i], p[1][i], p[2][i]});
+                RC_ASSERT(same(slots[ssa.size() - 1][i], want));
+            }
+        }
+    }
 }
 
 /// Pruned tapes come from Tape::from_ssa and may hold dead values and constant outputs.
