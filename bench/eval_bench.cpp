@@ -4,7 +4,7 @@
 // Scenes: unit sphere, torus (R = 1, r = 0.25), Barth sextic (.vm), a union of 1,001 spheres (the
 // "molecule" of the Lipschitz-pruning paper, read from its JSON; a deterministic 1,000-sphere union
 // when the file is absent) and prospero (.vm, 2D). Measured in one process:
-// (a) `batch/<scene>`: Evaluator<Batch> over 256 points (4 walks of 64 lanes) with the copy of the
+// (a) `batch/<scene>`: Evaluator<Batch> over 256 points (2 walks of 128 lanes) with the copy of the
 //     walk chosen for this CPU (expr/eval_batch.h); `double/<scene>`: Evaluator<double> point by
 //     point; `native/<scene>`: the same function hand-written in C++ and compiled with the same
 //     flags (generic x86-64; not for prospero);
