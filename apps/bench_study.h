@@ -1,0 +1,180 @@
+// apps/bench_study.h — internal to `certray bench`: the study's data and what its three parts
+// share (apps/bench.cpp measures, apps/bench_peers.cpp compares with the literature's own
+// numbers, apps/bench_report.cpp writes the CSV files and the report).
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "apps/bench.h"
+#include "expr/tape.h"
+#include "solvers/ray.h"
+#include "solvers/ray_io.h"
+#include "tracers/methods.h"
+
+namespace certray::apps::study {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+inline constexpr const char* kClassNames[] = {"correct", "missed", "false_hit", "overshoot",
+                                              "unknown"};
+inline constexpr const char* kTruthNames[] = {"hit", "miss", "tangent", "nohit", "unknown"};
+
+/// One method at one knob setting.
+struct Config {
+    std::string method;
+    std::string knob = "default";
+    double value = 0;
+    tracers::MethodOptions opts;
+    bool certified = false;
+    MethodFactory factory;  ///< set for extra methods
+    double tol_epsilon = 1e-6;
+    bool is_default = true;  ///< the knob value is MethodOptions' default (stress table column)
+    std::string label() const {
+        if (knob == "default") return method;
+        char buf[64];
+        std::snprintf(buf, sizeof buf, " %s=%g", knob.c_str(), value);
+        return method + buf;
+    }
+};
+
+/// A scene with its rays and the truth of each ray.
+struct Scene {
+    std::string name;
+    std::string suite;  ///< "gallery" or "stress"
+    expr::Tape tape;
+    std::vector<Ray> rays;
+    std::vector<Truth> truth;
+    std::vector<std::string> cases;  ///< stress case names (empty for the gallery)
+    std::vector<double> ref_us;      ///< reference time per ray (gallery)
+};
+
+/// One measurement.
+struct Row {
+    const Config* config;
+    const Scene* scene;
+    std::size_t ray;
+    RayResult result;
+    double us;
+    BenchClass cls;
+    double error;
+};
+
+/// The per (config, scene) aggregate.
+struct Summary {
+    const Config* config;
+    const Scene* scene;
+    double setup_ms = 0;
+    std::size_t rays = 0;
+    double mean_us = 0, median_us = 0;
+    double ev_value = 0, ev_interval = 0, ev_gradient = 0, ev_total = 0;
+    std::array<std::size_t, 5> counts{};
+    std::size_t ref_unknown = 0;
+    double max_error = std::numeric_limits<double>::quiet_NaN();
+    double median_error = std::numeric_limits<double>::quiet_NaN();
+    std::size_t wrong() const { return counts[1] + counts[2] + counts[3]; }
+};
+
+struct Study {
+    std::vector<Config> gallery_configs, stress_configs;
+    std::vector<Scene> gallery, stress;
+    std::vector<Row> rows;
+    std::vector<Summary> summaries;
+    std::vector<std::string> notes;  ///< missing tools, TODOs
+    /// method → scenes where it does not apply, and the first reason given
+    std::map<std::string, std::pair<std::vector<std::string>, std::string>> skipped;
+    std::vector<std::array<std::string, 4>> peers;  ///< peer, item, value, note
+    std::vector<std::string> pruning;               ///< pruning.csv lines
+    std::string peer_md;                            ///< the peers section of the report
+};
+
+inline std::string fmt(const char* f, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+
+inline std::string num(double v) {
+    std::string s;
+    append_double(s, v);
+    return s;
+}
+
+inline double median(std::vector<double> v) {
+    if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+}
+
+/// Writes `text` to `path` through a temporary file and a rename: never a half-written file.
+void write_atomic(const fs::path& path, const std::string& text);
+
+/// `path` as given when it exists; else, for a relative path, the same path under the source tree
+/// (so that `certray bench` finds scenes/, scripts/ and ../shared/models from any directory).
+std::string resolve(const std::string& path);
+
+/// Runs f(i, first) for i in [0, n) on `threads` threads; `first` is true on each thread's first
+/// call (its warm-up).
+template <class F>
+void parallel_for(unsigned threads, std::size_t n, F&& f) {
+    std::atomic<std::size_t> next{0};
+    auto work = [&] {
+        bool first = true;
+        for (std::size_t i; (i = next.fetch_add(1)) < n; first = false) f(i, first);
+    };
+    const unsigned t = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(n)));
+    std::vector<std::thread> pool;
+    for (unsigned k = 1; k < t; ++k) pool.emplace_back(work);
+    work();
+    for (std::thread& th : pool) th.join();
+}
+
+/// The progress bar on stderr.
+class Progress {
+  public:
+    Progress(bool on, std::size_t total) : on_(on), total_(std::max<std::size_t>(1, total)) {}
+    void add(std::size_t n, const std::string& what) {
+        done_ += n;
+        if (!on_) return;
+        const double f = std::min(1.0, static_cast<double>(done_) / static_cast<double>(total_));
+        const int w = 30, k = static_cast<int>(f * w);
+        std::fprintf(stderr, "\r[%s%s] %3.0f%% %-40.40s", std::string(k, '#').c_str(),
+                     std::string(w - k, '.').c_str(), 100 * f, what.c_str());
+        std::fflush(stderr);
+    }
+    void finish() {
+        if (on_) std::fprintf(stderr, "\n");
+    }
+
+  private:
+    bool on_;
+    std::size_t total_, done_ = 0;
+};
+
+// ---- the peers (apps/bench_peers.cpp): the literature's numbers beside ours ------------------
+void peer_prospero(const BenchOptions& o, Study& st);
+void peer_segment(const BenchOptions& o, Study& st);
+void peer_enhanced(Study& st);
+/// Tape length per octree level over the cells that may hold the surface.
+void peer_pruning(const std::vector<const Scene*>& scenes, const std::vector<expr::Tape>& extra2d,
+                  const std::vector<std::string>& extra_names, Study& st);
+
+// ---- the outputs (apps/bench_report.cpp) -----------------------------------------------------
+std::string measurements_csv(const Study& st);
+std::string summary_csv(const Study& st);
+/// The markdown report; counts the wrong answers of certified methods into certified_wrong.
+std::string make_report(const BenchOptions& o, const Study& st, unsigned threads,
+                        std::size_t& certified_wrong);
+
+}  // namespace certray::apps::study
