@@ -18,8 +18,9 @@
 // - walk_carry (Avx2: target "avx2"; Avx512: target "avx512f"): the previous instruction's result
 //   stays in vector registers; an operand naming its register is taken from there, and the store
 //   is skipped when the value dies at the next instruction. The stores and the dispatch dominate
-//   the cost (docs/benchmarks.md), hence immediates, 128 lanes, and a half-width copy of each walk
-//   for lists run on 64 lanes (8×8 tiles).
+//   the cost (docs/benchmarks.md), hence immediates and 128 lanes. AVX-512 carries all 128 lanes
+//   (16 registers); AVX2 (16 registers in all) and the baseline walk the 128 lanes as two halves;
+//   every copy also walks the first half alone, for lists that fill only that (8×8 tiles).
 // The entry points are `flatten`, so V's target-specific operations inline into them; no copy is
 // compiled with -march and -ffp-contract=off holds for every copy (objdump shows no vfmadd). The
 // copy that runs is chosen at the first call from __builtin_cpu_supports (expr/eval_batch.h).
@@ -347,7 +348,7 @@ inline void walk_carry(const Instr* in, const Instr* const end, const double* co
 
 using WalkFn = void (*)(const Instr*, const Instr*, const double* const*, double*, bool);
 
-/// The walks over all kBatch lanes, and over the first half of them (the quadtree's 8×8 leaves).
+/// The walks over N lanes of kBatch-lane registers.
 template <int N>
 struct Walks {
 #if CERTRAY_BATCH_X86
@@ -373,6 +374,19 @@ struct Walks {
 #endif
 };
 
+using Half = Walks<kBatch / 2>;
+
+/// All kBatch lanes as two walks over half of them (the second on the upper lanes): for the
+/// copies whose carried result would not fit the vector registers at full width (AVX2 has 16,
+/// and 64 lanes is its best width, docs/benchmarks.md) or that carry nothing (baseline). One
+/// instantiation fewer to compile, too.
+template <WalkFn H>
+void twice(const Instr* in, const Instr* end, const double* const* p, double* regs, bool keyed) {
+    H(in, end, p, regs, keyed);
+    const double* const upper[3] = {p[0] + kBatch / 2, p[1] + kBatch / 2, p[2] + kBatch / 2};
+    H(in, end, upper, regs + kBatch / 2, keyed);
+}
+
 // ---- choosing the copy ------------------------------------------------------------------------
 
 constexpr int kUnset = -1;
@@ -392,20 +406,20 @@ BatchIsa best_supported() noexcept {
 }
 
 /// The walk over N lanes (kBatch or kBatch / 2) of the copy `isa`.
-template <int N>
-WalkFn walk_for(BatchIsa isa) noexcept {
+/// The copy `isa` of the walk over all lanes, or over the first half of them.
+WalkFn walk_for(BatchIsa isa, bool half) noexcept {
 #if CERTRAY_BATCH_X86
     switch (isa) {
         case BatchIsa::Baseline:
-            return Walks<N>::baseline;
+            return half ? Half::baseline : twice<Half::baseline>;
         case BatchIsa::Avx2:
-            return Walks<N>::avx2;
+            return half ? Half::avx2 : twice<Half::avx2>;
         case BatchIsa::Avx512:
-            return Walks<N>::avx512;
+            return half ? Half::avx512 : Walks<kBatch>::avx512;
     }
 #endif
     (void)isa;
-    return Walks<N>::baseline;
+    return half ? Half::baseline : twice<Half::baseline>;
 }
 
 }  // namespace
@@ -413,14 +427,13 @@ WalkFn walk_for(BatchIsa isa) noexcept {
 void run_batch(const Instr* begin, const Instr* end, const Batch* p, Batch* r, int lanes) {
     const double* const in[3] = {p[0].v.data(), p[1].v.data(), p[2].v.data()};
     const bool half = lanes >= 0 && lanes <= kBatch / 2;
-    const WalkFn walk = half ? walk_for<kBatch / 2>(batch_isa()) : walk_for<kBatch>(batch_isa());
-    walk(begin, end, in, r[0].v.data(), false);
+    walk_for(batch_isa(), half)(begin, end, in, r[0].v.data(), false);
 }
 
 void run_batch(const BatchCode& code, const Batch* p, Batch* r) {
     const double* const in[3] = {p[0].v.data(), p[1].v.data(), p[2].v.data()};
     const Instr* const begin = code.instrs.data();
-    walk_for<kBatch>(batch_isa())(begin, begin + code.instrs.size(), in, r[0].v.data(), true);
+    walk_for(batch_isa(), false)(begin, begin + code.instrs.size(), in, r[0].v.data(), true);
 }
 
 }  // namespace detail
