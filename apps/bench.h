@@ -19,6 +19,7 @@
 
 #include "expr/tape.h"
 #include "solvers/ray.h"
+#include "tracers/camera.h"
 #include "tracers/methods.h"
 
 namespace certray::apps {
@@ -89,5 +90,11 @@ double bench_error(const RayResult& answer, const Truth& truth);
 /// (repeats 0) and std::runtime_error when an output cannot be written. Relative paths that do
 /// not exist (scenes_dir, models_dir, plot_script) are also looked up under the source tree.
 int run_bench(const BenchOptions& options);
+
+/// The view of the segment-tracing peer comparison, which `certray bench` and
+/// bench/segment_bench.cpp must trace alike: from (0, −80, 0) at the origin, z up, fov 35°,
+/// kSegmentPeerSide × kSegmentPeerSide pixels.
+inline constexpr unsigned kSegmentPeerSide = 100;
+tracers::Camera segment_peer_camera();
 
 }  // namespace certray::apps

@@ -20,7 +20,18 @@
 #include "tracers/camera.h"
 #include "tracers/image2d.h"
 
-namespace certray::apps::study {
+namespace certray::apps {
+
+tracers::Camera segment_peer_camera() {
+    tracers::Camera cam;
+    cam.eye = {0, -80, 0};
+    cam.target = {0, 0, 0};
+    cam.up = {0, 0, 1};
+    cam.fov_degrees = 35;
+    return cam;
+}
+
+namespace study {
 
 void peer_prospero(const BenchOptions& o, Study& st) {
     fs::path p = fs::path(o.scenes_dir) / "prospero.vm";
@@ -74,13 +85,8 @@ void peer_segment(const BenchOptions& o, Study& st) {
         st.notes.push_back("segment-tracing peer: particles.txt not loadable");
         return;
     }
-    tracers::Camera cam;
-    cam.eye = {0, -80, 0};
-    cam.target = {0, 0, 0};
-    cam.up = {0, 0, 1};
-    cam.fov_degrees = 35;
-    const unsigned side = 100;
-    const tracers::CameraFrame frame(cam, side, side);
+    const unsigned side = kSegmentPeerSide;
+    const tracers::CameraFrame frame(segment_peer_camera(), side, side);
     md +=
         "Camera (0, −80, 0) looking at the origin, fov 35°, 100×100 rays (sphere tracing: "
         "every 10th row and column, 10×10 rays, budget 20,000).\n\n"
@@ -241,4 +247,5 @@ void peer_pruning(const std::vector<const Scene*>& scenes, const std::vector<exp
         "(more than 20,000 cells).\n\n";
 }
 
-}  // namespace certray::apps::study
+}  // namespace study
+}  // namespace certray::apps

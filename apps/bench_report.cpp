@@ -20,6 +20,15 @@
 #include "tracers/image2d.h"
 
 namespace certray::apps::study {
+namespace {
+
+/// The columns both CSV files start with: suite,method,knob,value,certified,scene, and a comma.
+std::string key_columns(const Config& c, const Scene& scene) {
+    return scene.suite + "," + c.method + "," + c.knob + "," + num(c.value) + "," +
+           (c.certified ? "1" : "0") + "," + scene.name + ",";
+}
+
+}  // namespace
 
 std::string measurements_csv(const Study& st) {
     std::string s =
@@ -34,8 +43,7 @@ std::string measurements_csv(const Study& st) {
         const double rel = std::isnan(r.error) ? r.error
                            : t_star != 0       ? r.error / std::fabs(t_star)
                                                : r.error;
-        s += r.scene->suite + "," + c.method + "," + c.knob + "," + num(c.value) + "," +
-             (c.certified ? "1" : "0") + "," + r.scene->name + "," + std::to_string(r.ray) + "," +
+        s += key_columns(c, *r.scene) + std::to_string(r.ray) + "," +
              (r.scene->cases.empty() ? "" : r.scene->cases[r.ray]) + "," + kTruthNames[t.kind] +
              "," + std::string(name(r.result.status)) + "," + num(r.result.t_lo) + "," +
              num(r.result.t_hi) + "," + num(r.result.t) + "," + (has_root ? num(t.lo) : "nan") +
@@ -55,12 +63,10 @@ std::string summary_csv(const Study& st) {
         "ref_unknown,max_error,median_error\n";
     for (const Summary& m : st.summaries) {
         const Config& c = *m.config;
-        s += m.scene->suite + "," + c.method + "," + c.knob + "," + num(c.value) + "," +
-             (c.certified ? "1" : "0") + "," + m.scene->name + "," + std::to_string(m.rays) + "," +
-             fmt("%.3f", m.setup_ms) + "," + fmt("%.3f", m.mean_us) + "," +
-             fmt("%.3f", m.median_us) + "," + fmt("%.2f", m.ev_value) + "," +
-             fmt("%.2f", m.ev_interval) + "," + fmt("%.2f", m.ev_gradient) + "," +
-             fmt("%.2f", m.ev_total);
+        s += key_columns(c, *m.scene) + std::to_string(m.rays) + "," + fmt("%.3f", m.setup_ms) +
+             "," + fmt("%.3f", m.mean_us) + "," + fmt("%.3f", m.median_us) + "," +
+             fmt("%.2f", m.ev_value) + "," + fmt("%.2f", m.ev_interval) + "," +
+             fmt("%.2f", m.ev_gradient) + "," + fmt("%.2f", m.ev_total);
         for (std::size_t k : m.counts) {
             s += ',';
             s += std::to_string(k);

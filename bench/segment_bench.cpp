@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/bench.h"
 #include "expr/load.h"
 #include "expr/tape.h"
 #include "solvers/certified.h"
@@ -55,13 +56,8 @@ struct RaySet {
 };
 
 RaySet peers_rays() {
-    tracers::Camera cam;
-    cam.eye = {0, -80, 0};
-    cam.target = {0, 0, 0};
-    cam.up = {0, 0, 1};
-    cam.fov_degrees = 35;
-    const unsigned side = 100;
-    const tracers::CameraFrame frame(cam, side, side);
+    const unsigned side = apps::kSegmentPeerSide;  // the view `certray bench` compares on
+    const tracers::CameraFrame frame(apps::segment_peer_camera(), side, side);
     RaySet s{"peers 100x100 fov35 eps1e-6", {}, 1e-6};
     for (unsigned j = 0; j < side; ++j)
         for (unsigned i = 0; i < side; ++i) {

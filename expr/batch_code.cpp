@@ -74,7 +74,8 @@ void compile_batch(const Tape& tape, BatchCode& out) {
     thread_local std::vector<unsigned char> live;  // per register: read after this instruction
     live.assign(tape.registers(), 0);
     live[tape.output()] = 1;
-    std::vector<unsigned> keep(w, 0);
+    thread_local std::vector<unsigned char> keep;  // per instruction: its result stays unstored
+    keep.assign(w, 0);
     const auto reads = [](const Instr& x) { return is_imm(code(x.op)) ? 1 : arity(x.op); };
     for (std::size_t j = w; j-- > 0;) {
         const Instr& x = prog[j];

@@ -46,7 +46,57 @@ namespace {
 
 static_assert(sizeof(Batch) == kBatch * sizeof(double), "Batch must be its lanes, contiguous");
 
+// ---- the arithmetic of each code, shared by both walks --------------------------------------
+
+/// True for the codes computed by arith(): everything but the leaves and the libm calls.
+constexpr bool is_arith(unsigned c) {
+    return c >= code(Op::Neg) && c < kCodeCount && !(c >= code(Op::Exp) && c <= code(Op::Cos));
+}
+
+/// Code C on one vector of lanes: x is operand a; y is operand b (binary ops) or the immediate
+/// (kXxRI: a ∘ imm, kXxIR: imm ∘ a), unused by unary ops; n is Pow's exponent.
+template <class V, unsigned C>
+[[gnu::always_inline]] inline typename V::R arith(typename V::R x, typename V::R y, unsigned n) {
+    static_assert(is_arith(C));
+    if constexpr (C == code(Op::Neg)) return V::neg(x);
+    if constexpr (C == code(Op::Abs)) return V::abs(x);
+    if constexpr (C == code(Op::Square)) return V::square(x);
+    if constexpr (C == code(Op::Sqrt)) return V::sqrt(x);
+    if constexpr (C == code(Op::Pow)) return pow_lanes<V>(x, n);
+    if constexpr (C == code(Op::Add) || C == kAddRI) return V::add(x, y);
+    if constexpr (C == code(Op::Sub) || C == kSubRI) return V::sub(x, y);
+    if constexpr (C == kSubIR) return V::sub(y, x);
+    if constexpr (C == code(Op::Mul) || C == kMulRI) return V::mul(x, y);
+    if constexpr (C == code(Op::Div) || C == kDivRI) return V::div(x, y);
+    if constexpr (C == kDivIR) return V::div(y, x);
+    if constexpr (C == code(Op::Min) || C == kMinRI) return V::min(x, y);
+    if constexpr (C == kMinIR) return V::min(y, x);
+    if constexpr (C == code(Op::Max) || C == kMaxRI) return V::max(x, y);
+    if constexpr (C == kMaxIR) return V::max(y, x);
+}
+
+/// Whether code C reads operand b from a register (the binary ops; not their immediate forms).
+template <unsigned C>
+constexpr bool reads_b = !is_imm(C) && arity(static_cast<Op>(C)) == 2;
+
 // ---- the plain walk ---------------------------------------------------------------------------
+
+/// One arithmetic instruction of walk_plain over N lanes: every operand from memory, the result
+/// to memory.
+template <class V, int N, int S, unsigned C>
+[[gnu::always_inline]] inline void plain_step(const Instr& in, double* regs) {
+    constexpr int W = V::kWidth;
+    using R = typename V::R;
+    double* const o = regs + std::size_t{in.out} * S;
+    const double* const a = regs + std::size_t{in.a} * S;
+    const double* const b = regs + std::size_t{in.b} * S;  // read by binary ops only
+    const R imm = V::set1(in.imm);
+    for (int k = 0; k < N; k += W) {
+        R y = imm;  // the immediate, or unused (unary)
+        if constexpr (reads_b<C>) y = V::load(b + k);
+        V::store(o + k, arith<V, C>(V::load(a + k), y, in.b));
+    }
+}
 
 /// Runs instructions [in, end) over N lanes. p[0..2]: the inputs (N doubles each); register k is
 /// the N doubles at regs + k·S. Operands are read before the output is written, lane block by lane
@@ -58,14 +108,13 @@ inline void walk_plain(const Instr* in, const Instr* const end, const double* co
     static_assert(N % W == 0 && N <= S);
     for (; in != end; ++in) {
         double* const o = regs + std::size_t{in->out} * S;
-        const double* const a = regs + std::size_t{in->a} * S;
-        const double* const b = regs + std::size_t{in->b} * S;  // meaningful for binary ops only
         const unsigned c = keyed ? code(in->op) / 8 : code(in->op);  // the op (or batch code)
-        const typename V::R imm = V::set1(in->imm);  // the immediate of a kXxRI / kXxIR op
         switch (c) {
-            case code(Op::Const):
+            case code(Op::Const): {
+                const typename V::R imm = V::set1(in->imm);
                 for (int k = 0; k < N; k += W) V::store(o + k, imm);
                 break;
+            }
             case code(Op::VarX):
             case code(Op::VarY):
             case code(Op::VarZ): {
@@ -73,81 +122,38 @@ inline void walk_plain(const Instr* in, const Instr* const end, const double* co
                 for (int k = 0; k < N; k += W) V::store(o + k, V::load(x + k));
                 break;
             }
-            case code(Op::Neg):
-                for (int k = 0; k < N; k += W) V::store(o + k, V::neg(V::load(a + k)));
-                break;
-            case code(Op::Abs):
-                for (int k = 0; k < N; k += W) V::store(o + k, V::abs(V::load(a + k)));
-                break;
-            case code(Op::Square):
-                for (int k = 0; k < N; k += W) V::store(o + k, V::square(V::load(a + k)));
-                break;
-            case code(Op::Sqrt):
-                for (int k = 0; k < N; k += W) V::store(o + k, V::sqrt(V::load(a + k)));
-                break;
-            case code(Op::Pow):
-                for (int k = 0; k < N; k += W) V::store(o + k, pow_lanes<V>(V::load(a + k), in->b));
-                break;
             case code(Op::Exp):
             case code(Op::Log):
             case code(Op::Sin):
             case code(Op::Cos):
-                transcendental<N>(static_cast<Op>(c), a, o);
+                transcendental<N>(static_cast<Op>(c), regs + std::size_t{in->a} * S, o);
                 break;
-            case code(Op::Add):
-                for (int k = 0; k < N; k += W)
-                    V::store(o + k, V::add(V::load(a + k), V::load(b + k)));
-                break;
-            case code(Op::Sub):
-                for (int k = 0; k < N; k += W)
-                    V::store(o + k, V::sub(V::load(a + k), V::load(b + k)));
-                break;
-            case code(Op::Mul):
-                for (int k = 0; k < N; k += W)
-                    V::store(o + k, V::mul(V::load(a + k), V::load(b + k)));
-                break;
-            case code(Op::Div):
-                for (int k = 0; k < N; k += W)
-                    V::store(o + k, V::div(V::load(a + k), V::load(b + k)));
-                break;
-            case code(Op::Min):
-                for (int k = 0; k < N; k += W)
-                    V::store(o + k, V::min(V::load(a + k), V::load(b + k)));
-                break;
-            case code(Op::Max):
-                for (int k = 0; k < N; k += W)
-                    V::store(o + k, V::max(V::load(a + k), V::load(b + k)));
-                break;
-            case kAddRI:
-                for (int k = 0; k < N; k += W) V::store(o + k, V::add(V::load(a + k), imm));
-                break;
-            case kSubRI:
-                for (int k = 0; k < N; k += W) V::store(o + k, V::sub(V::load(a + k), imm));
-                break;
-            case kSubIR:
-                for (int k = 0; k < N; k += W) V::store(o + k, V::sub(imm, V::load(a + k)));
-                break;
-            case kMulRI:
-                for (int k = 0; k < N; k += W) V::store(o + k, V::mul(V::load(a + k), imm));
-                break;
-            case kDivRI:
-                for (int k = 0; k < N; k += W) V::store(o + k, V::div(V::load(a + k), imm));
-                break;
-            case kDivIR:
-                for (int k = 0; k < N; k += W) V::store(o + k, V::div(imm, V::load(a + k)));
-                break;
-            case kMinRI:
-                for (int k = 0; k < N; k += W) V::store(o + k, V::min(V::load(a + k), imm));
-                break;
-            case kMinIR:
-                for (int k = 0; k < N; k += W) V::store(o + k, V::min(imm, V::load(a + k)));
-                break;
-            case kMaxRI:
-                for (int k = 0; k < N; k += W) V::store(o + k, V::max(V::load(a + k), imm));
-                break;
-            case kMaxIR:
-                for (int k = 0; k < N; k += W) V::store(o + k, V::max(imm, V::load(a + k)));
-                break;
+#define CERTRAY_PLAIN_CASE(C)              \
+    case C:                                \
+        plain_step<V, N, S, C>(*in, regs); \
+        break;
+                CERTRAY_PLAIN_CASE(code(Op::Neg))
+                CERTRAY_PLAIN_CASE(code(Op::Abs))
+                CERTRAY_PLAIN_CASE(code(Op::Square))
+                CERTRAY_PLAIN_CASE(code(Op::Sqrt))
+                CERTRAY_PLAIN_CASE(code(Op::Pow))
+                CERTRAY_PLAIN_CASE(code(Op::Add))
+                CERTRAY_PLAIN_CASE(code(Op::Sub))
+                CERTRAY_PLAIN_CASE(code(Op::Mul))
+                CERTRAY_PLAIN_CASE(code(Op::Div))
+                CERTRAY_PLAIN_CASE(code(Op::Min))
+                CERTRAY_PLAIN_CASE(code(Op::Max))
+                CERTRAY_PLAIN_CASE(kAddRI)
+                CERTRAY_PLAIN_CASE(kSubRI)
+                CERTRAY_PLAIN_CASE(kSubIR)
+                CERTRAY_PLAIN_CASE(kMulRI)
+                CERTRAY_PLAIN_CASE(kDivRI)
+                CERTRAY_PLAIN_CASE(kDivIR)
+                CERTRAY_PLAIN_CASE(kMinRI)
+                CERTRAY_PLAIN_CASE(kMinIR)
+                CERTRAY_PLAIN_CASE(kMaxRI)
+                CERTRAY_PLAIN_CASE(kMaxIR)
+#undef CERTRAY_PLAIN_CASE
             default:
                 break;  // unreachable: every code is a case above
         }
@@ -205,16 +211,6 @@ template <class V, int N, int S, Op OP, bool AA, bool BA, bool KEEP>
     } else if constexpr (OP == Op::VarX || OP == Op::VarY || OP == Op::VarZ) {
         const double* const x = p[static_cast<int>(OP) - static_cast<int>(Op::VarX)];
         each<B>([&](auto k) { acc[k()] = V::load(x + k() * W); });
-    } else if constexpr (OP == Op::Neg) {
-        each<B>([&](auto k) { acc[k()] = V::neg(A(k)); });
-    } else if constexpr (OP == Op::Abs) {
-        each<B>([&](auto k) { acc[k()] = V::abs(A(k)); });
-    } else if constexpr (OP == Op::Square) {
-        each<B>([&](auto k) { acc[k()] = V::square(A(k)); });
-    } else if constexpr (OP == Op::Sqrt) {
-        each<B>([&](auto k) { acc[k()] = V::sqrt(A(k)); });
-    } else if constexpr (OP == Op::Pow) {
-        each<B>([&](auto k) { acc[k()] = pow_lanes<V>(A(k), in.b); });
     } else if constexpr (OP == Op::Exp || OP == Op::Log || OP == Op::Sin || OP == Op::Cos) {
         // libm lane by lane, memory to memory; a carried operand is spilled first.
         alignas(64) double tmp[N];
@@ -222,33 +218,13 @@ template <class V, int N, int S, Op OP, bool AA, bool BA, bool KEEP>
         transcendental<N>(OP, AA ? tmp : a, o);
         each<B>([&](auto k) { acc[k()] = V::load(o + k() * W); });
         stored = true;
-    } else if constexpr (OP == Op::Add) {
-        each<B>([&](auto k) { acc[k()] = V::add(A(k), Bv(k)); });
-    } else if constexpr (OP == Op::Sub) {
-        each<B>([&](auto k) { acc[k()] = V::sub(A(k), Bv(k)); });
-    } else if constexpr (OP == Op::Mul) {
-        each<B>([&](auto k) { acc[k()] = V::mul(A(k), Bv(k)); });
-    } else if constexpr (OP == Op::Div) {
-        each<B>([&](auto k) { acc[k()] = V::div(A(k), Bv(k)); });
-    } else if constexpr (OP == Op::Min) {
-        each<B>([&](auto k) { acc[k()] = V::min(A(k), Bv(k)); });
-    } else if constexpr (OP == Op::Max) {
-        each<B>([&](auto k) { acc[k()] = V::max(A(k), Bv(k)); });
     } else {
         constexpr unsigned C = code(OP);
-        static_assert(is_imm(C) && C < kCodeCount);
-        const R c = V::set1(in.imm);
+        const R imm = V::set1(in.imm);  // the immediate, or unused
         each<B>([&](auto k) {
-            if constexpr (C == kAddRI) acc[k()] = V::add(A(k), c);
-            if constexpr (C == kSubRI) acc[k()] = V::sub(A(k), c);
-            if constexpr (C == kSubIR) acc[k()] = V::sub(c, A(k));
-            if constexpr (C == kMulRI) acc[k()] = V::mul(A(k), c);
-            if constexpr (C == kDivRI) acc[k()] = V::div(A(k), c);
-            if constexpr (C == kDivIR) acc[k()] = V::div(c, A(k));
-            if constexpr (C == kMinRI) acc[k()] = V::min(A(k), c);
-            if constexpr (C == kMinIR) acc[k()] = V::min(c, A(k));
-            if constexpr (C == kMaxRI) acc[k()] = V::max(A(k), c);
-            if constexpr (C == kMaxIR) acc[k()] = V::max(c, A(k));
+            R y = imm;
+            if constexpr (reads_b<C>) y = Bv(k);
+            acc[k()] = arith<V, C>(A(k), y, in.b);
         });
     }
     if (!KEEP && !stored) each<B>([&](auto k) { V::store(o + k() * W, acc[k()]); });

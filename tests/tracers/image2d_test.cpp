@@ -14,24 +14,14 @@
 #include "expr/load.h"
 #include "expr/parser.h"
 #include "expr/tape.h"
+#include "tests/support/image2d_reference.h"
 #include "tests/support/random_dag.h"
 
 namespace certray::tracers {
 namespace {
 
-const std::filesystem::path kScenes = std::filesystem::path(CERTRAY_TEST_DATA) / "../../scenes";
-
-/// Every pixel classified by a plain double evaluation of the full tape at its centre.
-std::vector<Pixel2d> brute_force(const expr::Tape& tape, const Image2dOptions& o) {
-    expr::Evaluator<double> e;
-    std::vector<Pixel2d> px;
-    for (unsigned j = 0; j < o.height; ++j) {
-        for (unsigned i = 0; i < o.width; ++i) {
-            px.push_back(classify(e(tape, {pixel_center_x(o, i), pixel_center_y(o, j), 0.0})));
-        }
-    }
-    return px;
-}
+using testing::kScenesDir;
+using testing::without_z;
 
 /// Number of pixels where two classifications differ (and the first such pixel in `where`).
 std::size_t mismatches(const Image2d& img, const std::vector<Pixel2d>& ref, std::string& where) {
@@ -47,16 +37,9 @@ std::size_t mismatches(const Image2d& img, const std::vector<Pixel2d>& ref, std:
     return n;
 }
 
-/// The graph with z replaced by the constant c (random DAGs read all three variables).
-expr::Graph without_z(const expr::Graph& g, double c) {
-    expr::Graph out;
-    out.set_output(out.copy(g, g.output(), {out.var(0), out.var(1), out.constant(c)}));
-    return out;
-}
-
 TEST(Image2d, ProsperoHas132816InsidePixels) {
     // Fidget's reference image of prospero.vm: 1024² over [−1, 1]², 132,816 pixels with f < 0.
-    const expr::Tape tape(expr::load_graph_file((kScenes / "prospero.vm").string()));
+    const expr::Tape tape(expr::load_graph_file((kScenesDir / "prospero.vm").string()));
     Image2dOptions o;
     const Image2d img = render_2d(tape, o);
     EXPECT_EQ(img.inside, 132816u);
@@ -65,14 +48,14 @@ TEST(Image2d, ProsperoHas132816InsidePixels) {
 }
 
 TEST(Image2d, ProsperoQuadtreeEqualsBruteForce) {
-    const expr::Tape tape(expr::load_graph_file((kScenes / "prospero.vm").string()));
+    const expr::Tape tape(expr::load_graph_file((kScenesDir / "prospero.vm").string()));
     Image2dOptions o;
     o.width = 97;  // odd sizes: tiles of every shape, centres not on a dyadic lattice
     o.height = 61;
     o.root_tile = 16;
     const Image2d img = render_2d(tape, o);
     std::string where;
-    EXPECT_EQ(mismatches(img, brute_force(tape, o), where), 0u) << where;
+    EXPECT_EQ(mismatches(img, testing::brute_force_2d(tape, o).pixels, where), 0u) << where;
 }
 
 /// Pixels of the disk x² + y² < r² (r² = num/den) over [−1.5, 1.5] × [−1, 1] at 96 × 64: the
@@ -138,7 +121,7 @@ TEST(Image2d, OverflowFollowsTheDoubleEvaluation) {
     EXPECT_EQ(img.undefined, 24u * 16u);
     EXPECT_EQ(img.inside, 0u);
     std::string where;
-    EXPECT_EQ(mismatches(img, brute_force(tape, o), where), 0u) << where;
+    EXPECT_EQ(mismatches(img, testing::brute_force_2d(tape, o).pixels, where), 0u) << where;
 }
 
 TEST(Image2d, RejectsBadInput) {
@@ -150,7 +133,7 @@ TEST(Image2d, RejectsBadInput) {
 }
 
 TEST(Image2d, ThreadsGiveTheSameImage) {
-    const expr::Tape tape(expr::load_graph_file((kScenes / "prospero.vm").string()));
+    const expr::Tape tape(expr::load_graph_file((kScenesDir / "prospero.vm").string()));
     Image2dOptions o;
     o.width = 256;
     o.height = 256;
@@ -175,7 +158,7 @@ RC_GTEST_PROP(Image2d, RandomDagQuadtreeEqualsBruteForce, ()) {
     o.y = {lo - 0.5, hi + 0.25};
     const Image2d img = render_2d(tape, o);
     std::string where;
-    RC_ASSERT(mismatches(img, brute_force(tape, o), where) == 0u);
+    RC_ASSERT(mismatches(img, testing::brute_force_2d(tape, o).pixels, where) == 0u);
 }
 
 }  // namespace

@@ -19,48 +19,24 @@
 #include "expr/graph.h"
 #include "expr/load.h"
 #include "expr/tape.h"
+#include "tests/support/image2d_reference.h"
 #include "tests/support/random_dag.h"
 #include "tracers/image2d.h"
 
 namespace certray::tracers {
 namespace {
 
-const std::filesystem::path kScenes = std::filesystem::path(CERTRAY_TEST_DATA) / "../../scenes";
-
-/// The brute force: every pixel classified by a plain double evaluation of the full tape at its
-/// centre.
-struct Brute {
-    std::vector<Pixel2d> pixels;
-    std::uint64_t inside = 0, undefined = 0;
-};
-Brute brute(const expr::Tape& tape, const Image2dOptions& o) {
-    expr::Evaluator<double> e;
-    Brute b;
-    for (unsigned j = 0; j < o.height; ++j) {
-        for (unsigned i = 0; i < o.width; ++i) {
-            const Pixel2d p = classify(e(tape, {pixel_center_x(o, i), pixel_center_y(o, j), 0.0}));
-            b.pixels.push_back(p);
-            b.inside += p == Pixel2d::Inside;
-            b.undefined += p == Pixel2d::Undefined;
-        }
-    }
-    return b;
-}
-
-/// The graph with z replaced by the constant c (random DAGs read all three variables).
-expr::Graph without_z(const expr::Graph& g, double c) {
-    expr::Graph out;
-    out.set_output(out.copy(g, g.output(), {out.var(0), out.var(1), out.constant(c)}));
-    return out;
-}
+using testing::brute_force_2d;
+using testing::kScenesDir;
+using testing::without_z;
 
 TEST(Image2dTiles, ProsperoEveryTilingAndThreadCountGivesTheBruteForceImage) {
-    const expr::Tape tape(expr::load_graph_file((kScenes / "prospero.vm").string()));
+    const expr::Tape tape(expr::load_graph_file((kScenesDir / "prospero.vm").string()));
     Image2dOptions o;
     o.width = 121;  // odd: clipped tiles on the right and bottom edges
     o.height = 87;
     o.threads = 2;
-    const Brute reference = brute(tape, o);
+    const testing::Reference2d reference = brute_force_2d(tape, o);
     for (unsigned root : {8u, 16u, 64u, 256u, 512u}) {
         for (unsigned threads : {1u, 2u, 3u}) {
             o.root_tile = root;
@@ -74,7 +50,7 @@ TEST(Image2dTiles, ProsperoEveryTilingAndThreadCountGivesTheBruteForceImage) {
 
 TEST(Image2dTiles, ProsperoFullSizeCountOnThreeThreads) {
     // Fidget's reference count at 1024² (also checked on the default options in image2d_test).
-    const expr::Tape tape(expr::load_graph_file((kScenes / "prospero.vm").string()));
+    const expr::Tape tape(expr::load_graph_file((kScenesDir / "prospero.vm").string()));
     Image2dOptions o;
     o.threads = 3;
     o.root_tile = 32;
@@ -83,14 +59,14 @@ TEST(Image2dTiles, ProsperoFullSizeCountOnThreeThreads) {
 
 TEST(Image2dTiles, OneRowAndOneColumnImages) {
     // Tiles one pixel wide or high: degenerate boxes, so enclosures of x or y are points.
-    const expr::Tape tape(expr::load_graph_file((kScenes / "prospero.vm").string()));
+    const expr::Tape tape(expr::load_graph_file((kScenesDir / "prospero.vm").string()));
     for (auto [w, h] : {std::pair{1u, 300u}, std::pair{300u, 1u}, std::pair{1u, 1u}}) {
         Image2dOptions o;
         o.width = w;
         o.height = h;
         o.root_tile = 8;
         o.threads = 2;
-        EXPECT_EQ(render_2d(tape, o).pixels, brute(tape, o).pixels) << w << "x" << h;
+        EXPECT_EQ(render_2d(tape, o).pixels, brute_force_2d(tape, o).pixels) << w << "x" << h;
     }
 }
 
@@ -106,7 +82,7 @@ RC_GTEST_PROP(Image2dTiles, RandomDagAnyTilingEqualsBruteForce, ()) {
     o.x = {lo, hi};
     o.y = {lo - 0.5, hi + 0.25};
     const Image2d img = render_2d(tape, o);
-    const Brute ref = brute(tape, o);
+    const testing::Reference2d ref = brute_force_2d(tape, o);
     RC_ASSERT(img.pixels == ref.pixels);
     RC_ASSERT(img.inside == ref.inside);
     RC_ASSERT(img.undefined == ref.undefined);
