@@ -10,6 +10,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "interval/interval.h"
+
 namespace certray::expr {
 namespace detail {
 
@@ -74,6 +76,7 @@ bool parse_decimal(std::string_view text, bool allow_sign, double& value, std::s
         return false;
     }
     double v = 0.0;
+    NearestScope env;  // the nearest double, whatever the caller's rounding direction
     const char* first = text.data() + start;
     const char* last = text.data() + text.size();
     const auto res = std::from_chars(first, last, v, std::chars_format::general);

@@ -9,6 +9,7 @@
 
 #include "expr/builder.h"
 #include "expr/input_error.h"
+#include "interval/interval.h"
 
 namespace certray::expr {
 
@@ -29,6 +30,7 @@ Expr balanced_sum(std::vector<Expr> terms) {
 }  // namespace
 
 Graph import_particles(std::istream& in, const ParticleParams& params, const std::string& file) {
+    NearestScope env;  // numbers read as the nearest doubles, whatever the caller's environment
     if (!(params.radius > 0) || !std::isfinite(params.radius) || !std::isfinite(params.weight) ||
         !std::isfinite(params.iso)) {
         throw InputError(file, 0, 0, "particle parameters must be finite, with radius > 0");
@@ -164,6 +166,7 @@ struct JsonReader {
 }  // namespace
 
 CsgScene import_csg_json(std::istream& in, const std::string& file) {
+    NearestScope env;  // numbers read as the nearest doubles, whatever the caller's environment
     Json doc;
     try {
         doc = Json::parse(in);

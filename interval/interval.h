@@ -26,6 +26,7 @@
 
 #include <bit>
 #include <boost/numeric/interval.hpp>
+#include <cfenv>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -89,10 +90,16 @@ struct X86RoundingControl {
         asm volatile("fnstcw %0" : "=m"(m.x87));
         return m;
     }
-    /// m with both rounding fields set to rc.
-    static rounding_mode with(rounding_mode m, unsigned rc) {
-        m.mxcsr = (m.mxcsr & ~0x6000u) | (rc << 13);
-        m.x87 = static_cast<unsigned short>((m.x87 & ~0x0c00u) | (rc << 10));
+    /// The whole environment certray computes in, with rounding direction rc: MXCSR with every
+    /// exception masked, flush-to-zero (bit 15) and denormals-are-zero (bit 6) clear; the x87 word
+    /// with every exception masked and 64-bit precision. Nothing of the caller's state is kept:
+    /// a host running with FTZ|DAZ (game engines, objects built with -ffast-math) would otherwise
+    /// flush a subnormal bound to a zero that is not one. The caller's words are restored whole
+    /// when the scope that called this ends.
+    static rounding_mode canonical(unsigned rc) {
+        rounding_mode m;
+        m.mxcsr = 0x1f80u | (rc << 13);
+        m.x87 = static_cast<unsigned short>(0x037fu | (rc << 10));
         return m;
     }
     /// Writes the words of `to` that differ from `from` (the current state).
@@ -102,7 +109,7 @@ struct X86RoundingControl {
     }
     static void set(unsigned rc) {
         const rounding_mode now = current();
-        write(with(now, rc), now);
+        write(canonical(rc), now);
     }
     static void get_rounding_mode(rounding_mode& mode) { mode = current(); }
     static void set_rounding_mode(const rounding_mode& mode) {
@@ -139,7 +146,7 @@ struct WidenedTransc : Rounding {
         x = opaque(x);  // computed before the switch
 #ifdef CERTRAY_X86_64_ROUNDING
         const X86RoundingControl::rounding_mode saved = X86RoundingControl::current();
-        X86RoundingControl::set_rounding_mode(X86RoundingControl::with(saved, 0));
+        X86RoundingControl::set_rounding_mode(X86RoundingControl::canonical(0));
         const double r = opaque(f(x));
         X86RoundingControl::set_rounding_mode(saved);
 #else
@@ -219,7 +226,7 @@ class RoundingScope {
   public:
 #ifdef CERTRAY_X86_64_ROUNDING
     RoundingScope() : saved_(detail::X86RoundingControl::current()) {
-        detail::X86RoundingControl::set_rounding_mode(detail::X86RoundingControl::with(saved_, 2));
+        detail::X86RoundingControl::set_rounding_mode(detail::X86RoundingControl::canonical(2));
     }
     ~RoundingScope() { detail::X86RoundingControl::set_rounding_mode(saved_); }
 #else
@@ -233,6 +240,34 @@ class RoundingScope {
     detail::X86RoundingControl::rounding_mode saved_;
 #else
     boost::numeric::interval_lib::save_state<detail::IntervalArith> state_;
+#endif
+};
+
+/// The environment plain double arithmetic is sound in, for its lifetime: round-to-nearest,
+/// flush-to-zero and denormals-are-zero clear, exceptions masked; the caller's control words are
+/// restored exactly at the end (also when an exception leaves the scope). Every entry point of
+/// the library that computes in doubles (a ray's points o + t·d rounded one ulp outward, the
+/// batch walk's signs) opens one, so a host that runs with FTZ|DAZ or another rounding direction
+/// gets the same answers as one that does not. Costs two control-word reads and writes.
+class NearestScope {
+  public:
+#ifdef CERTRAY_X86_64_ROUNDING
+    NearestScope() : saved_(detail::X86RoundingControl::current()) {
+        detail::X86RoundingControl::write(detail::X86RoundingControl::canonical(0), saved_);
+    }
+    ~NearestScope() { detail::X86RoundingControl::set_rounding_mode(saved_); }
+#else
+    NearestScope() : saved_(std::fegetround()) { std::fesetround(FE_TONEAREST); }
+    ~NearestScope() { std::fesetround(saved_); }
+#endif
+    NearestScope(const NearestScope&) = delete;
+    NearestScope& operator=(const NearestScope&) = delete;
+
+  private:
+#ifdef CERTRAY_X86_64_ROUNDING
+    detail::X86RoundingControl::rounding_mode saved_;
+#else
+    int saved_;
 #endif
 };
 
@@ -343,6 +378,9 @@ BasicInterval<M> intersect(const BasicInterval<M>& a, const BasicInterval<M>& b)
 }
 
 // ---- comparisons: certainly_* holds for every pair of members, possibly_* for some pair
+// ---------- They compare bounds in the calling thread's environment: under a host's
+// ---------- denormals-are-zero a subnormal bound reads as 0, so code that decides anything from
+// ---------- them runs inside a NearestScope (the library's entry points open one).
 // ---------- Empty operands: certainly_* is vacuously true, possibly_* false.
 
 template <class M>
@@ -385,6 +423,9 @@ bool possibly_zero(const BasicInterval<M>& x) {
 
 // ---- arithmetic ------------------------------------------------------------------------------
 // Every result is defined where both operands are, and the operation is defined on the whole box.
+// Each operation but negation holds the mode's Guard from its first line: for `Interval` the whole
+// body, comparisons of bounds included, runs in the library's environment (canonical(2): no
+// flush-to-zero, no denormals-are-zero), so that a subnormal bound is never read as 0.
 
 namespace detail {
 /// Boost yields NaN bounds (read as empty) for inf − inf and 0 · inf on non-empty operands at
@@ -547,6 +588,7 @@ template <class M>
 /// The result is never `defined` when 0 ∈ b.
 template <class M>
 BasicInterval<M> operator/(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+    [[maybe_unused]] typename M::Guard guard;
     using I = BasicInterval<M>;
     if (a.is_empty() || b.is_empty()) return I::empty();
     const double c = b.lower(), d = b.upper();
@@ -626,9 +668,11 @@ BasicInterval<M>& operator/=(BasicInterval<M>& a, const BasicInterval<M>& b) {
 // ---- elementary functions ----------------------------------------------------------------------
 
 /// |[a, b]|: [a, b] if a ≥ 0; [−b, −a] if b ≤ 0; [0, max(−a, b)] otherwise. Exact: the lower
-/// bound is max(a, −b, 0), the upper max(−a, b).
+/// bound is max(a, −b, 0), the upper max(−a, b). abs, min and max round nothing but still hold
+/// the guard: a caller's denormals-are-zero would make max(0, 2^-1074) = 0.
 template <class M>
 [[gnu::always_inline]] inline BasicInterval<M> abs(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;
     const double l = x.lower(), u = x.upper();
     if (!(l <= u)) [[unlikely]]
         return BasicInterval<M>::empty();
@@ -638,10 +682,10 @@ template <class M>
 /// [a, b]²: [a², b²] if a ≥ 0; [b², a²] if b ≤ 0; [0, max(a², b²)] otherwise; rounded outward.
 template <class M>
 [[gnu::always_inline]] inline BasicInterval<M> square(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;
     const double l = x.lower(), u = x.upper();
     if (!(l <= u)) [[unlikely]]
         return BasicInterval<M>::empty();
-    [[maybe_unused]] typename M::Guard guard;
     double lo, hi;
     detail::square_bounds(l, u, lo, hi);
     return detail::from_bounds<M>(lo, hi, x.defined);
@@ -649,6 +693,7 @@ template <class M>
 /// xⁿ for a non-negative integer n: x⁰ = [1, 1]; even n as square, odd n monotone.
 template <class M>
 BasicInterval<M> pow(const BasicInterval<M>& x, unsigned n) {
+    [[maybe_unused]] typename M::Guard guard;
     if (x.is_empty()) return BasicInterval<M>::empty();
     if (n == 0) return {typename BasicInterval<M>::Boost(1.0), x.defined};
     return detail::repair(
@@ -657,10 +702,10 @@ BasicInterval<M> pow(const BasicInterval<M>& x, unsigned n) {
 /// √ on [a, b] ∩ [0, ∞): [√max(a,0) down, √b up]; empty if b < 0; defined only if a ≥ 0.
 template <class M>
 [[gnu::always_inline]] inline BasicInterval<M> sqrt(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;
     const double l = x.lower(), u = x.upper();
     if (!(l <= u) || u < 0) [[unlikely]]
         return BasicInterval<M>::empty();
-    [[maybe_unused]] typename M::Guard guard;
     const double lo = l > 0 ? detail::sqrt_rd(l) : 0.0;
     const double hi = detail::opaque(std::sqrt(detail::opaque(u)));
     return detail::from_bounds<M>(lo, hi, x.defined && l >= 0);
@@ -668,18 +713,21 @@ template <class M>
 /// exp is increasing: [exp_down(a), exp_up(b)].
 template <class M>
 BasicInterval<M> exp(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;
     return {boost::numeric::exp(x.iv), x.defined};
 }
 /// log on [a, b] ∩ (0, ∞): [log_down(a) or −∞ if a ≤ 0, log_up(b)]; empty if b ≤ 0;
 /// defined only if a > 0.
 template <class M>
 BasicInterval<M> log(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;
     return {boost::numeric::log(x.iv), x.defined && x.lower() > 0};
 }
 /// cos: the box is reduced modulo 2π with interval π bounds; a box of width ≥ 2π, an unbounded
 /// box or a reduction too coarse to tell gives [−1, 1]; otherwise monotone pieces.
 template <class M>
 BasicInterval<M> cos(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;
     if (x.is_empty()) return BasicInterval<M>::empty();
     if (!std::isfinite(x.lower()) || !std::isfinite(x.upper()))
         return {BasicInterval<M>(-1.0, 1.0).iv, x.defined};
@@ -688,6 +736,7 @@ BasicInterval<M> cos(const BasicInterval<M>& x) {
 /// sin(x) = cos(x − π/2) with π/2 as an interval.
 template <class M>
 BasicInterval<M> sin(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;
     if (x.is_empty()) return BasicInterval<M>::empty();
     if (!std::isfinite(x.lower()) || !std::isfinite(x.upper()))
         return {BasicInterval<M>(-1.0, 1.0).iv, x.defined};
@@ -697,6 +746,7 @@ BasicInterval<M> sin(const BasicInterval<M>& x) {
 template <class M>
 [[gnu::always_inline]] inline BasicInterval<M> min(const BasicInterval<M>& a,
                                                    const BasicInterval<M>& b) {
+    [[maybe_unused]] typename M::Guard guard;
     if (!(a.lower() <= a.upper()) || !(b.lower() <= b.upper())) [[unlikely]]
         return BasicInterval<M>::empty();
     return detail::from_bounds<M>(detail::min2(a.lower(), b.lower()),
@@ -706,6 +756,7 @@ template <class M>
 template <class M>
 [[gnu::always_inline]] inline BasicInterval<M> max(const BasicInterval<M>& a,
                                                    const BasicInterval<M>& b) {
+    [[maybe_unused]] typename M::Guard guard;
     if (!(a.lower() <= a.upper()) || !(b.lower() <= b.upper())) [[unlikely]]
         return BasicInterval<M>::empty();
     return detail::from_bounds<M>(detail::max2(a.lower(), b.lower()),

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <utility>
 
+#include "interval/interval.h"  // NearestScope: MPFR reads and writes doubles with the FPU
+
 namespace certray {
 
 namespace detail {
@@ -196,7 +198,12 @@ MpfrInterval::MpfrInterval(Uninit, Precision prec) : defined(false) {
     mpfr_init2(hi_, bits);
 }
 
+// MPFR converts between doubles and its numbers with double arithmetic: under a caller's
+// denormals-are-zero or flush-to-zero a subnormal would read or come out as 0. Every conversion
+// runs in the library's environment (NearestScope).
+
 MpfrInterval::MpfrInterval(double x, Precision prec) : MpfrInterval(Uninit{}, prec) {
+    NearestScope env;
     if (std::isfinite(x)) {
         mpfr_set_d(lo_, x, MPFR_RNDD);
         mpfr_set_d(hi_, x, MPFR_RNDU);
@@ -208,6 +215,7 @@ MpfrInterval::MpfrInterval(double lo, double hi, Precision prec) : MpfrInterval(
     const bool valid =
         !std::isnan(lo) && !std::isnan(hi) && lo <= hi && lo != HUGE_VAL && hi != -HUGE_VAL;
     if (valid) {
+        NearestScope env;
         mpfr_set_d(lo_, lo, MPFR_RNDD);
         mpfr_set_d(hi_, hi, MPFR_RNDU);
         defined = true;
@@ -268,8 +276,14 @@ MpfrInterval::~MpfrInterval() {
     mpfr_clear(hi_);
 }
 
-double MpfrInterval::lower_down() const { return mpfr_get_d(lo_, MPFR_RNDD); }
-double MpfrInterval::upper_up() const { return mpfr_get_d(hi_, MPFR_RNDU); }
+double MpfrInterval::lower_down() const {
+    NearestScope env;
+    return mpfr_get_d(lo_, MPFR_RNDD);
+}
+double MpfrInterval::upper_up() const {
+    NearestScope env;
+    return mpfr_get_d(hi_, MPFR_RNDU);
+}
 bool MpfrInterval::is_empty() const { return mpfr_nan_p(lo_) != 0; }
 
 // ---- arithmetic -----------------------------------------------------------------------------
@@ -546,6 +560,7 @@ MpfrInterval intersect(const MpfrInterval& x, const MpfrInterval& y) {
 }
 
 bool contains(const MpfrInterval& x, double v) {
+    NearestScope env;
     return !x.is_empty() && std::isfinite(v) && mpfr_cmp_d(x.lo(), v) <= 0 &&
            mpfr_cmp_d(x.hi(), v) >= 0;
 }

@@ -391,12 +391,14 @@ RayResult Solver<E>::solve() {
 
 RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
                                const CertifiedOptions& options) {
+    NearestScope env;  // sound in any caller's floating-point environment (interval/interval.h)
     thread_local Scratch<Interval> scratch;
     return Solver<Interval>(tape, ray, options, scratch).solve();
 }
 
 RayResult certified_first_root_reference(const expr::Tape& tape, const Ray& ray,
                                          const CertifiedOptions& options) {
+    NearestScope env;
     thread_local Scratch<MpfrInterval> scratch;
     return Solver<MpfrInterval>(tape, ray, options, scratch).solve();
 }

@@ -10,6 +10,7 @@
 #include <system_error>
 
 #include "expr/input_error.h"
+#include "interval/interval.h"
 
 namespace certray {
 namespace {
@@ -83,6 +84,7 @@ std::string parse_number(std::string_view text, double& value) {
         return "expected a number, found " + quote(text);
     }
     double v = 0;
+    NearestScope env;  // the nearest double, whatever the caller's rounding direction
     const auto [ptr, ec] = std::from_chars(body.data(), body.data() + body.size(), v, fmt);
     if (ec == std::errc::result_out_of_range) {
         return "number " + quote(text) + " is out of the range of a double";

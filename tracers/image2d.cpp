@@ -271,6 +271,7 @@ Image2d render_2d(const expr::Tape& tape, const Image2dOptions& options) {
     std::exception_ptr error;
 
     auto worker = [&](unsigned k) {
+        NearestScope env;  // the double signs at the leaves, whatever the thread's environment
         try {
             std::unique_ptr<WalkerScratch> scratch = scratch_pool().take();
             TileWalker walker(xs, ys, img, *scratch);

@@ -309,7 +309,14 @@ std::string describe_methods() {
 RayFunction make_method(std::string_view name, const expr::Tape& tape,
                         const MethodOptions& options) {
     for (const Entry& e : kMethods) {
-        if (e.name == name) return e.make(tape, options);
+        if (e.name != name) continue;
+        NearestScope env;  // what make builds (λ, octrees) is computed in the library's environment
+        RayFunction fn = e.make(tape, options);
+        // Each ray in the library's floating-point environment, whatever the calling thread's.
+        return [fn = std::move(fn)](const Ray& ray) {
+            NearestScope ray_env;
+            return fn(ray);
+        };
     }
     std::string list;
     for (const Entry& e : kMethods) list += (list.empty() ? "" : ", ") + std::string(e.name);

@@ -10,8 +10,10 @@
 #include <cmath>
 #include <limits>
 #include <utility>
+#include <vector>
 
 #include "interval/mpfr_interval.h"
+#include "tests/support/fp_env.h"
 #include "tests/support/generators.h"
 #include "tests/support/mpfr_oracle.h"
 
@@ -65,6 +67,69 @@ TEST(IntervalCanary, UpIntervalInsideScopeMatchesInterval) {
         EXPECT_LT(e.lower(), e.upper());
     }
     EXPECT_EQ(std::fegetround(), before);
+}
+
+// ---- the caller's floating-point state (tests/support/fp_env.h) ------------------------------
+// Whatever a host has set — flush-to-zero and denormals-are-zero, or a directed rounding — the
+// library's bounds are those it computes under the default state, and the host's words come back.
+
+TEST(IntervalHostState, FtzDazCallerDoesNotFlushSubnormalBounds) {
+    // [-0.5, -0.25] · 2^-1070 = [-2^-1071, -2^-1072] exactly: both bounds are subnormal. With the
+    // caller's FTZ|DAZ kept, the product came out [-0, -0], a zero that is not one.
+    const testing::FpWords before = testing::read_fp_words();
+    {
+        testing::HostFpEnv host("ftz-daz");
+        const Interval r = (Interval(0, 0.25) - 0.5) * pow(Interval(0.5), 1070);
+        EXPECT_EQ(r.lower(), std::ldexp(-1.0, -1071));
+        EXPECT_EQ(r.upper(), std::ldexp(-1.0, -1072));
+        EXPECT_TRUE(r.defined);
+        const testing::FpWords inside = testing::read_fp_words();
+        EXPECT_EQ(inside.mxcsr & (testing::kFtz | testing::kDaz), testing::kFtz | testing::kDaz)
+            << "the host's words are restored after each operation";
+        {
+            RoundingScope scope;
+            const UpInterval u = UpInterval(std::ldexp(1.0, -1073)) * UpInterval(0.5, 0.5);
+            EXPECT_EQ(u.lower(), std::ldexp(1.0, -1074));
+            EXPECT_EQ(u.upper(), std::ldexp(1.0, -1074));
+            // A subnormal operand is read as itself (DAZ would read it as 0).
+            const UpInterval v = UpInterval(std::ldexp(1.0, -1074)) + UpInterval(0.0);
+            EXPECT_EQ(v.lower(), std::ldexp(1.0, -1074));
+        }
+        {
+            NearestScope env;
+            const double tiny = detail::opaque(std::ldexp(1.0, -1073));
+            EXPECT_EQ(detail::opaque(tiny * 0.5), std::ldexp(1.0, -1074));
+        }
+        EXPECT_TRUE(testing::same_control(testing::read_fp_words(), inside))
+            << "scopes restore the host's words";
+    }
+    EXPECT_TRUE(testing::same_control(testing::read_fp_words(), before));
+}
+
+TEST(IntervalHostState, EveryRoundingDirectionGivesTheSameBounds) {
+    auto bounds = [] {
+        std::vector<double> b;
+        for (const Interval& r :
+             {Interval(1) / Interval(3), exp(Interval(1)), sqrt(Interval(2)),
+              Interval(0.1) + Interval(0.2), sin(Interval(1, 2)), log(Interval(3, 7))}) {
+            b.push_back(r.lower());
+            b.push_back(r.upper());
+        }
+        {
+            RoundingScope scope;
+            const UpInterval u = UpInterval(1) / UpInterval(3) - UpInterval(0.1);
+            b.push_back(u.lower());
+            b.push_back(u.upper());
+        }
+        return b;
+    };
+    const std::vector<double> reference = bounds();
+    for (const char* state : {"upward", "downward", "toward-zero", "ftz-daz"}) {
+        testing::HostFpEnv host(state);
+        const testing::FpWords words = testing::read_fp_words();
+        EXPECT_EQ(bounds(), reference) << state;
+        EXPECT_TRUE(testing::same_control(testing::read_fp_words(), words)) << state;
+    }
 }
 
 TEST(IntervalCases, DivisionIsSetBased) {
@@ -178,14 +243,16 @@ template <class IntervalOp, class MpfrOp>
 void check_unary(IntervalOp iop, MpfrOp mop) {
     const auto [lo, hi] = *gen_bounds();
     const double p = *gen_point_in(lo, hi);
-    const Interval r = iop(Interval(lo, hi));
+    const Interval r = testing::as_host([&] { return iop(Interval(lo, hi)); });
     const MpfrInterval exact = mop(MpfrInterval(p));
     RC_ASSERT(encloses(r.lower(), r.upper(), exact));
     // The decoration never claims definedness where the function is undefined at a point.
     if (r.defined) RC_ASSERT(!exact.is_empty());
     // The fast variant gives the same bounds.
-    RoundingScope scope;
-    const UpInterval f = iop(UpInterval(lo, hi));
+    const UpInterval f = testing::as_host([&] {
+        RoundingScope scope;
+        return iop(UpInterval(lo, hi));
+    });
     RC_ASSERT(f.is_empty() == r.is_empty());
     if (!r.is_empty()) RC_ASSERT(f.lower() == r.lower() && f.upper() == r.upper());
 }
@@ -196,12 +263,15 @@ void check_binary(IntervalOp iop, MpfrOp mop) {
     const auto [blo, bhi] = *gen_bounds();
     const double p = *gen_point_in(alo, ahi);
     const double q = *gen_point_in(blo, bhi);
-    const Interval r = iop(Interval(alo, ahi), Interval(blo, bhi));
+    const Interval r =
+        testing::as_host([&] { return iop(Interval(alo, ahi), Interval(blo, bhi)); });
     const MpfrInterval exact = mop(MpfrInterval(p), MpfrInterval(q));
     RC_ASSERT(encloses(r.lower(), r.upper(), exact));
     if (r.defined) RC_ASSERT(!exact.is_empty());
-    RoundingScope scope;
-    const UpInterval f = iop(UpInterval(alo, ahi), UpInterval(blo, bhi));
+    const UpInterval f = testing::as_host([&] {
+        RoundingScope scope;
+        return iop(UpInterval(alo, ahi), UpInterval(blo, bhi));
+    });
     RC_ASSERT(f.is_empty() == r.is_empty());
     if (!r.is_empty()) RC_ASSERT(f.lower() == r.lower() && f.upper() == r.upper());
 }

@@ -13,6 +13,7 @@
 #include "expr/tape.h"
 #include "solvers/certified.h"
 #include "solvers/ray.h"
+#include "tests/support/fp_env.h"
 #include "tests/support/stress_cases.h"
 
 namespace certray::solvers {
@@ -33,7 +34,10 @@ class Stress : public ::testing::Test {
         tapes_ = new std::map<std::string, expr::Tape>;
         for (const Case& c : *cases_) {
             if (!tapes_->count(c.scene)) {
-                tapes_->emplace(c.scene, expr::Tape(expr::load_graph_file(stress_dir() + c.scene)));
+                tapes_->emplace(
+                    c.scene, testing::as_host([&] {
+                        return expr::Tape(expr::load_graph_file(stress_dir() + c.scene));
+                    }));
             }
         }
     }
@@ -51,7 +55,8 @@ TEST_F(Stress, SuiteIsComplete) { EXPECT_GE(cases_->size(), 25u); }
 
 TEST_F(Stress, CertifiedIsNeverWrongAndProvesSimpleRoots) {
     for (const Case& c : *cases_) {
-        check(c, certified_first_root(tapes_->at(c.scene), c.ray), true);
+        check(c, testing::as_host([&] { return certified_first_root(tapes_->at(c.scene), c.ray); }),
+              true);
     }
 }
 
@@ -59,13 +64,18 @@ TEST_F(Stress, CertifiedAffineIsNeverWrong) {
     CertifiedOptions o;
     o.affine = true;
     for (const Case& c : *cases_)
-        check(c, certified_first_root(tapes_->at(c.scene), c.ray, o), true);
+        check(c,
+              testing::as_host([&] { return certified_first_root(tapes_->at(c.scene), c.ray, o); }),
+              true);
 }
 
 TEST_F(Stress, MpfrReferenceIsNeverWrong) {
     for (const Case& c : *cases_) {
         if (c.scene == "deep_csg.expr") continue;  // 10⁴ primitives in MPFR: seconds, not needed
-        check(c, certified_first_root_reference(tapes_->at(c.scene), c.ray), true);
+        check(c, testing::as_host([&] {
+                  return certified_first_root_reference(tapes_->at(c.scene), c.ray);
+              }),
+              true);
     }
 }
 
@@ -73,7 +83,8 @@ TEST_F(Stress, SmallBudgetsStayHonest) {
     CertifiedOptions o;
     o.budget = 8;
     for (const Case& c : *cases_) {
-        const RayResult r = certified_first_root(tapes_->at(c.scene), c.ray, o);
+        const RayResult r =
+            testing::as_host([&] { return certified_first_root(tapes_->at(c.scene), c.ray, o); });
         check(c, r, false);
         EXPECT_LE(r.evals.total(), o.budget + 16) << c.label;
     }

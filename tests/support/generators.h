@@ -22,7 +22,9 @@
 #include <utility>
 #include <vector>
 
+#include "interval/interval.h"
 #include "solvers/ray.h"
+#include "tests/support/fp_env.h"
 
 namespace certray::testing {
 
@@ -244,23 +246,24 @@ inline rc::Gen<RootProduct> gen_root_product(int max_factors) {
     });
 }
 
-/// RAII check that no code leaks a rounding-mode change: records fegetround() on construction;
-/// on destruction, if the mode differs, restores it and records a test failure (ADD_FAILURE).
+/// RAII check that no code leaks a change of the floating-point control state: records the raw
+/// MXCSR and x87 control words on construction (fp_env.h); on destruction, if they differ,
+/// restores them and records a test failure (ADD_FAILURE).
 struct FpEnvGuard {
-    FpEnvGuard() : mode(std::fegetround()) {}
+    FpEnvGuard() : words(read_fp_words()) {}
     FpEnvGuard(const FpEnvGuard&) = delete;
     FpEnvGuard& operator=(const FpEnvGuard&) = delete;
     ~FpEnvGuard() {
-        const int now = std::fegetround();
-        if (now != mode) {
-            std::fesetround(mode);
-            ADD_FAILURE() << "rounding mode leaked: was " << mode << ", found " << now
-                          << " (restored)";
+        const FpWords now = read_fp_words();
+        if (!same_control(now, words)) {
+            write_fp_words(words);
+            ADD_FAILURE() << "floating-point control words leaked: were " << describe(words)
+                          << ", found " << describe(now) << " (restored)";
         }
     }
 
-    /// The rounding mode on entry.
-    const int mode;
+    /// The control words on entry.
+    const FpWords words;
 };
 
 }  // namespace certray::testing

@@ -15,7 +15,9 @@ bool encloses(double lo, double hi, const MpfrInterval& exact) {
     if (std::isnan(lo) || std::isnan(hi)) {
         return false;
     }
-    // mpfr_cmp_d handles infinite operands exactly (−inf ≤ anything, +inf ≥ anything).
+    // mpfr_cmp_d handles infinite operands exactly (−inf ≤ anything, +inf ≥ anything); it reads
+    // the double with the FPU, so not under a host's denormals-are-zero.
+    NearestScope env;
     return mpfr_cmp_d(exact.lo(), lo) >= 0 && mpfr_cmp_d(exact.hi(), hi) <= 0;
 }
 
