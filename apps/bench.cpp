@@ -1,4 +1,4 @@
-// apps/bench.cpp — the error-against-run-time study (`certray bench`, issue 6): measurement,
+// apps/bench.cpp — the error-against-run-time study (`certray bench`): measurement,
 // classification against the MPFR reference and the stress brackets, CSV outputs and the report.
 //
 // Contract: apps/bench.h. Timing: rays run in parallel on `threads` std::threads, each ray timed

@@ -37,7 +37,7 @@ struct ExtraMethod {
     double epsilon = 1e-6;   ///< the ε used for its tolerance (MethodOptions::epsilon is set too)
 };
 
-/// The options of `certray bench`. CLI11 lines for apps/certray.cpp are in the report of issue 6.
+/// The options of `certray bench` (the command line of apps/certray.cpp sets them).
 struct BenchOptions {
     std::string out_dir = "bench-out";  ///< --out: the output directory (created)
     std::string report;                 ///< --report: also write report.md here (docs/report.md)
@@ -45,9 +45,9 @@ struct BenchOptions {
     std::vector<std::string> scenes;    ///< --scene: scene files instead of the gallery's 3D ones
     std::string rays;                   ///< --rays: RAYS.csv; empty: SCENES_DIR/rays.csv
     std::string stress;  ///< --stress: cases.csv; empty: SCENES_DIR/stress/cases.csv; "none": skip
-    std::string models_dir = "../shared/models";  ///< --models: peer models (segment-tracing/…)
-    std::vector<std::string> methods;             ///< --methods: registry names to run; empty: all
-    std::vector<ExtraMethod> extra_methods;       ///< methods given in code (no CLI flag)
+    std::string models_dir;  ///< --models: extra peer models (prospero.vm, segment-tracing/…)
+    std::vector<std::string> methods;        ///< --methods: registry names to run; empty: all
+    std::vector<ExtraMethod> extra_methods;  ///< methods given in code (no CLI flag)
     bool quick = false;  ///< --quick: 3 scenes, 32 rays, 2 knob values, no peers (CI, seconds)
     bool peers = true;   ///< --no-peers clears it: skip the peer benchmarks
     bool plots = true;   ///< --no-plots clears it: do not run scripts/bench_plot.py

@@ -35,7 +35,7 @@ namespace study {
 
 void peer_prospero(const BenchOptions& o, Study& st) {
     fs::path p = fs::path(o.scenes_dir) / "prospero.vm";
-    if (!fs::exists(p)) p = fs::path(o.models_dir) / "prospero.vm";
+    if (!fs::exists(p) && !o.models_dir.empty()) p = fs::path(o.models_dir) / "prospero.vm";
     std::string& md = st.peer_md;
     md += "### Prospero 1024×1024 (2D quadtree, tracers/image2d.h)\n\n";
     if (!fs::exists(p)) {
@@ -64,7 +64,9 @@ void peer_prospero(const BenchOptions& o, Study& st) {
                             std::to_string(inside), "expected 132816"});
     }
     md +=
-        "\nPublished (other machines, for orientation; ../shared/models/README.md): Fidget "
+        "\nPublished (other machines, for orientation; the Prospero Challenge, "
+        "docs/theory/bench.md): "
+        "Fidget "
         "4.6–10.8 ms (JIT/VM, several cores), libfive about 80–100 ms on 2 cores, a brute-force "
         "scalar interpreter about 23 s on 2 cores, the fastest published CPU renderer 0.28 ms on "
         "4 cores of an M1.\n\n";
@@ -73,7 +75,9 @@ void peer_prospero(const BenchOptions& o, Study& st) {
 void peer_segment(const BenchOptions& o, Study& st) {
     std::string& md = st.peer_md;
     md += "### Segment tracing on particles.txt (Galin et al. 2020)\n\n";
-    const fs::path p = fs::path(o.models_dir) / "segment-tracing" / "particles.txt";
+    fs::path p = fs::path(o.scenes_dir) / "particles.txt";
+    if (!fs::exists(p) && !o.models_dir.empty())
+        p = fs::path(o.models_dir) / "segment-tracing" / "particles.txt";
     std::unique_ptr<expr::Tape> tape;
     try {
         tape = std::make_unique<expr::Tape>(expr::load_graph_file(p.string()));

@@ -121,7 +121,7 @@ inline double median(std::vector<double> v) {
 void write_atomic(const fs::path& path, const std::string& text);
 
 /// `path` as given when it exists; else, for a relative path, the same path under the source tree
-/// (so that `certray bench` finds scenes/, scripts/ and ../shared/models from any directory).
+/// (so that `certray bench` finds scenes/ and scripts/ from any directory).
 std::string resolve(const std::string& path);
 
 /// Runs f(i, first) for i in [0, n) on `threads` threads; `first` is true on each thread's first

@@ -105,8 +105,10 @@ int main(int argc, char** argv) {
     CLI::App* cmd_render = app.add_subcommand(
         "render",
         "Write a PNG image of SCENE. An .expr/.vm scene that reads z is 3D: auto-framed inside the "
-        "bounds, one ray per pixel answered by --method. One that does not read z is 2D: the exact "
-        "image of f < 0 by an interval quadtree (pixel centres; --method and --aov do not apply). "
+        "bounds, one ray per pixel answered by --method. One that does not read z is 2D: each "
+        "pixel "
+        "the sign of f evaluated in double at its centre (as by brute force), computed by an "
+        "interval quadtree (--method and --aov do not apply). "
         "A .json scene gives {scene, bounds, camera{eye,target,up,fov}, light, method, size}. "
         "Prints pixel counts (2D: inside, undefined; 3D: hit, miss, unknown and evaluations)");
     cmd_render->add_option("scene", render.scene, "Scene file (.expr, .vm or .json)")->required();
@@ -164,7 +166,10 @@ int main(int argc, char** argv) {
     cmd_bench->add_option("--rays", bench.rays, "RAYS.csv (default SCENES_DIR/rays.csv)");
     cmd_bench->add_option("--stress", bench.stress,
                           "Stress cases.csv (default SCENES_DIR/stress/cases.csv; none: skip)");
-    cmd_bench->add_option("--models", bench.models_dir, "Peer models (segment-tracing/...)")
+    cmd_bench
+        ->add_option("--models", bench.models_dir,
+                     "Extra peer models, when SCENES_DIR lacks them (prospero.vm, "
+                     "segment-tracing/particles.txt)")
         ->capture_default_str();
     cmd_bench->add_option("--methods", bench.methods, "Methods to run (default: all)")
         ->delimiter(',');

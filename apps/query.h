@@ -1,7 +1,7 @@
 // apps/query.h — `certray query`: the first surface crossing along each ray of a file.
 //
-// Contract (DESIGN.md "The command line"): reads SCENE (.expr or .vm) and RAYS.csv, runs the chosen
-// method on every ray, writes HITS.csv (one line per ray, in input order) and optionally
+// Contract (docs/design.md "The command line"): reads SCENE (.expr or .vm) and RAYS.csv, runs the
+// chosen method on every ray, writes HITS.csv (one line per ray, in input order) and optionally
 // STATS.json. Output files are written to `PATH.tmp` beside PATH and renamed into place only when
 // complete, so a failed run leaves no half-written file behind.
 #pragma once

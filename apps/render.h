@@ -1,8 +1,9 @@
 // apps/render.h — `certray render`: a PNG image of a scene.
 //
-// Contract (DESIGN.md "The command line"): SCENE is an .expr or .vm file (auto-framed inside the
-// bounds; one that does not read z is a 2D scene, drawn as the exact image of f < 0 by the interval
-// quadtree of tracers/image2d.h) or a JSON scene {"scene", "bounds", "camera", "light", "method",
+// Contract (docs/design.md "The command line"): SCENE is an .expr or .vm file (auto-framed inside
+// the bounds; one that does not read z is a 2D scene, each pixel the sign of the double evaluation
+// of f at its centre — identical to the brute force — computed by the interval quadtree of
+// tracers/image2d.h) or a JSON scene {"scene", "bounds", "camera", "light", "method",
 // "size"} (all optional but "scene", whose path is relative to the JSON file; any other key is an
 // error naming it). Options given on the command line override the JSON's. The PNG is written to
 // OUT.tmp and renamed into place when complete: a failed run leaves no file. Prints a summary on

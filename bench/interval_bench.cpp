@@ -9,7 +9,7 @@
 // UpInterval inside one RoundingScope hoisted out of the timed loop; optional Dual and Affine
 // types. The custom main runs every benchmark once, adds a counter `x_double` (this time / the
 // double time of the same kernel and shape, measured in the same process) and prints a ratio table.
-// Results and the command that produced them: docs/benchmarks.md, "Interval operations (issue 2)".
+// Results and the command that produced them: docs/benchmarks.md, "Interval operations".
 #include <benchmark/benchmark.h>
 
 #include <cmath>

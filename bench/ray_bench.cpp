@@ -9,7 +9,7 @@
 // method and scene, µs and evaluations per ray, and against the reference: correct (hit within the
 // reference enclosure widened by `tolerance`, or both miss), missed hits, false hits, overshoots (a
 // later root), unknowns, the largest |t − t*| and, for certified methods, the median enclosure
-// width in ulps. Results and the command: docs/benchmarks.md, "Ray queries by method (issue 4)".
+// width in ulps. Results and the command: docs/benchmarks.md, "Ray queries by method".
 #include <benchmark/benchmark.h>
 
 #include <algorithm>

@@ -8,7 +8,7 @@
 // −(−x) → x, x¹ → x, x² → square(x). Nothing that could make an undefined point defined is applied
 // (x − x is not 0, x·0 is not 0, x⁰ is not 1). Children always have smaller ids than their parent,
 // so ascending id order is a topological order; no method recurses over the DAG. Reference: Fidget
-// (mkeeter/fidget) `Context`; DESIGN.md "The flow of data".
+// (mkeeter/fidget) `Context`; docs/design.md "The flow of data".
 #pragma once
 
 #include <array>

@@ -1,4 +1,5 @@
-// expr/parser.h — the .expr infix language (DESIGN.md "The expression language") → expr::Graph.
+// expr/parser.h — the .expr infix language (docs/design.md "The expression language") →
+// expr::Graph.
 //
 // Grammar (newlines end statements, except inside parentheses, where they are ignored):
 //   program   := { statement NEWLINE } ; the last statement is the expression f
@@ -7,8 +8,8 @@
 //   sum       := product { ('+' | '-') product }          ; left-associative
 //   product   := unary { ('*' | '/') unary }              ; left-associative
 //   unary     := { '-' } power                            ; -x^2 is −(x²)
-//   power     := primary [ '^' integer ]                   ; chains a^2^3 are rejected: write
-//   (a^2)^3 primary   := number | x | y | z | name | function '(' sum { ',' sum } ')' | '(' sum ')'
+//   power     := primary [ '^' integer ]                   ; a^2^3 is rejected: (a^2)^3
+//   primary   := number | x | y | z | name | function '(' sum { ',' sum } ')' | '(' sum ')'
 // Numbers are decimal (`1`, `1.5`, `.5`, `1.`, `2e-3`), meaning the nearest double; no sign, no
 // hex, no inf/nan. Functions: sqrt abs exp log sin cos square (1 argument), min max (2).
 // Comments run from '#' to the end of the line. Nesting (parentheses, function calls) is limited to

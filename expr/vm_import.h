@@ -1,5 +1,5 @@
-// expr/vm_import.h — imports Fidget's .vm SSA text format (described in
-// ../shared/models/README.md).
+// expr/vm_import.h — imports Fidget's .vm SSA text format (mkeeter/fidget `models/`; described in
+// docs/guide/formats.md).
 //
 // Format: one instruction a line, `<id> <opcode> [args]`; blank lines and lines starting with '#'
 // are skipped; ids are any token without spaces; arguments name ids defined on earlier lines; the

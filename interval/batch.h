@@ -12,7 +12,7 @@
 // expr/eval_batch.cpp, one copy per instruction set (SSE2, AVX2, AVX-512, chosen at run time,
 // expr/eval_batch.h) under the same contract; the operators serve generic code (detail::run<Batch>)
 // and make Batch a Number. Batch is 64-byte aligned so that no vector load straddles a cache line
-// (docs/benchmarks.md, "Expression evaluation (issue 3)").
+// (docs/benchmarks.md, "Expression evaluation").
 #pragma once
 
 #include <Eigen/Core>

@@ -363,7 +363,11 @@ TaylorModel<D> tm_unary(const TaylorModel<D>& x, Coef coef, Fallback fallback) {
     return s;
 }
 
-/// 1/k! for k ≤ 4, as an interval.
+/// C(1/2, k) = (1/2)(1/2 − 1)⋯(1/2 − k + 1)/k! for k ≤ 4 (exact dyadics): 1, 1/2, −1/8, 1/16,
+/// −5/128. √(x + h) = √x · Σ C(1/2, k) (h/x)ᵏ; the last one is the Lagrange coefficient at D = 3.
+inline constexpr double kSqrtBinomial[] = {1.0, 0.5, -0.125, 0.0625, -0.0390625};
+
+/// 1/k! for k ≤ 5, as an interval.
 inline TmI inv_factorial(int k) {
     static constexpr double kFact[] = {1, 1, 2, 6, 24, 120};
     return TmI(1.0) / TmI(kFact[k]);
@@ -632,11 +636,10 @@ TaylorModel<D> sqrt(const TaylorModel<D>& a) {
         a,
         [](double a0, const TmI& j, std::array<TmI, D + 2>& c) {
             if (!(j.lower() > 0)) return false;
-            static constexpr double kBinom[] = {1.0, 0.5, -0.125, 0.0625, -0.078125};  // C(1/2, k)
             const TmI x(a0);
             for (int k = 0; k <= D + 1; ++k) {
                 const TmI& at = k <= D ? x : j;
-                c[k] = TmI(kBinom[k]) * sqrt(at) / pow(at, static_cast<unsigned>(k));
+                c[k] = TmI(detail::kSqrtBinomial[k]) * sqrt(at) / pow(at, static_cast<unsigned>(k));
             }
             return true;
         },

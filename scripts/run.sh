@@ -3,7 +3,7 @@
 # scene, the tape, a proven enclosure of f and a Lipschitz bound over its bounds, the evaluation
 # speed, and how far interval pruning shortens the tape per subdivision level; certified ray
 # queries on every 3D scene; and the gallery rendered to out/gallery/*.png (certified, shaded and
-# with the per-pixel evaluation count; prospero as the exact 2D image of f < 0).
+# with the per-pixel evaluation count; prospero as a 2D image: the sign of f at each pixel centre).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh

@@ -1,7 +1,7 @@
 // solvers/bernstein.h — certified first root of a polynomial with interval coefficients by
 // Bernstein subdivision and Bézier clipping.
 //
-// Contract (solvers/ray.h, DESIGN.md "Certification semantics"), for every polynomial p whose
+// Contract (solvers/ray.h, docs/design.md "Certification semantics"), for every polynomial p whose
 // power-basis coefficients lie in the given intervals: Hit [lo, hi] means p has a zero in [lo, hi]
 // and none in [tmin, lo); Miss means none in [tmin, tmax]; Unknown [lo, hi] means none in
 // [tmin, lo) and a possible zero in [lo, hi] that is neither proven nor excluded (multiple or

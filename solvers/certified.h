@@ -1,8 +1,8 @@
 // solvers/certified.h — the certified first root along a ray: interval bisection (Snyder 1992)
 // with interval Newton (Moore) for existence, uniqueness and quadratic convergence.
 //
-// Contract (solvers/ray.h, DESIGN.md "Certification semantics"): a Hit [t_lo, t_hi] means g has a
-// zero in [t_lo, t_hi] and none in [tmin, t_lo); a Miss means none in [tmin, tmax]; otherwise
+// Contract (solvers/ray.h, docs/design.md "Certification semantics"): a Hit [t_lo, t_hi] means g
+// has a zero in [t_lo, t_hi] and none in [tmin, t_lo); a Miss means none in [tmin, tmax]; otherwise
 // Unknown. Zeros are proven by a sign change between two points where g is proven defined and
 // continuous on the whole segment between them (the interval decoration), by an exact zero, or by
 // the interval Newton test N(T) ⊂ int T. Exclusion uses 0 ∉ G(T), or N(T) ∩ T = ∅. Reference:

@@ -1,6 +1,6 @@
 // solvers/ray.h — the vocabulary of ray queries: a ray, a status, a result with evaluation counts.
 //
-// Certification semantics (DESIGN.md): for g(t) = f(o + t·d) on [tmin, tmax],
+// Certification semantics (docs/design.md): for g(t) = f(o + t·d) on [tmin, tmax],
 //   Hit  [t_lo, t_hi]: g provably has a zero in [t_lo, t_hi] and provably none in [tmin, t_lo);
 //   Miss:              g provably has no zero in [tmin, tmax];
 //   Unknown [t_lo, t_hi]: no zero in [tmin, t_lo) is proven, a possible zero in [t_lo, t_hi] is

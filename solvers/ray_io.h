@@ -1,6 +1,6 @@
 // solvers/ray_io.h — the ray and hit file formats of `certray query` (RAYS.csv in, HITS.csv out).
 //
-// Contract (DESIGN.md "The command line"):
+// Contract (docs/design.md "The command line"):
 //   RAYS.csv: the header `ox,oy,oz,dx,dy,dz,tmin,tmax`, then one ray per line: eight finite
 //   numbers (decimal or C hex-float, e.g. `0x1.8p+1`) separated by commas. NaN or infinite values,
 //   tmin > tmax, a wrong field count and lines longer than kMaxRayLine bytes are input errors

@@ -1,4 +1,5 @@
-// tracers/image2d.h — the image of f < 0 for a 2D scene (no z), by an interval quadtree.
+// tracers/image2d.h — the 2D image of a scene (no z): the sign of f at each pixel centre, in
+// double, computed by an interval quadtree.
 //
 // Contract: pixel (i, j) of a W×H image over [xmin, xmax]×[ymin, ymax] is sampled at its centre
 // (pixel_center_x(i), pixel_center_y(j)) — i from the left, j from the top row down — and is

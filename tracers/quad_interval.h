@@ -5,7 +5,7 @@
 // same function, so the same bounds and decoration bit for bit as four separate evaluations —
 // and, like UpInterval, valid only inside a live RoundingScope. What it buys: one dispatch of each
 // instruction (one switch, one mispredicted branch) for four boxes, which is most of the cost of
-// an interval walk (tracers/image2d.cpp; docs/benchmarks.md, issue 5).
+// an interval walk (tracers/image2d.cpp; docs/benchmarks.md, "Rendering").
 // Lanes are UpIntervals side by side, so lane k of a register file of QuadIntervals is a strided
 // array of UpIntervals (`lane_stride`), which expr::prune_ssa reads directly.
 #pragma once

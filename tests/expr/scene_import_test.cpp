@@ -81,8 +81,7 @@ TEST(ParticleImport, ParametersAndErrors) {
 TEST(ParticleImport, ReferenceSceneFile) {
     const std::string path =
         find_file({fs::path(CERTRAY_TEST_DATA) / "models" / "particles.txt",
-                   fs::path(CERTRAY_TEST_DATA) / ".." / ".." / "scenes" / "particles.txt",
-                   "/work/shared/models/segment-tracing/particles.txt"});
+                   fs::path(CERTRAY_TEST_DATA) / ".." / ".." / "scenes" / "particles.txt"});
     if (path.empty()) GTEST_SKIP() << "particles.txt not found";
     std::vector<P> c;
     std::ifstream in(path);
@@ -97,8 +96,7 @@ TEST(ParticleImport, ReferenceSceneFile) {
 
 TEST(CsgJsonImport, MoleculeIsTheSmoothUnionFold) {
     const std::string path =
-        find_file({fs::path(CERTRAY_TEST_DATA) / ".." / ".." / "scenes" / "molecule.json",
-                   "/work/shared/models/lipschitz-pruning/molecule.json"});
+        find_file({fs::path(CERTRAY_TEST_DATA) / ".." / ".." / "scenes" / "molecule.json"});
     if (path.empty()) GTEST_SKIP() << "molecule.json not found";
     // By hand: the tree is a left comb of unions with identity matrices; collect the spheres in
     // left-to-right order and fold the smooth union. A matrix maps world to primitive space

@@ -154,6 +154,64 @@ TEST(Taylor, BranchesDecidedBySign) {
     EXPECT_EQ(wide.degree(), 0);
 }
 
+/// C(1/2, k) as an exact rational: ∏_{i<k} (1 − 2i) / (2ᵏ k!), both parts exact integers.
+double binomial_half(int k) {
+    double num = 1, den = 1;
+    for (int i = 0; i < k; ++i) {
+        num *= 1 - 2 * i;
+        den *= 2 * (i + 1);
+    }
+    return num / den;  // den is 2ᵏ k!; the quotient is a dyadic, so the division is exact
+}
+
+TEST(Taylor, SqrtBinomialCoefficientsAreExact) {
+    for (int k = 0; k <= 4; ++k) EXPECT_EQ(detail::kSqrtBinomial[k], binomial_half(k)) << "k=" << k;
+    EXPECT_EQ(detail::kSqrtBinomial[4], -5.0 / 128);
+}
+
+TEST(Taylor, SqrtPolynomialPartIsTheBinomialSeries) {
+    // √(4 + u) = 2 Σ C(1/2, k) (u/4)ᵏ: coefficients 2, 1/4, −1/64, 1/512 (exact dyadics).
+    const double h = 1.0 / 8;
+    const TaylorDomain<3> dom(Box{Interval(4 - h, 4 + h), Interval(0, 0), Interval(0, 0)});
+    const TaylorModel<3> m = model_of(tape_of("sqrt(x)"), dom);
+    for (int k = 0; k <= 3; ++k) {
+        const double exact = 2 * binomial_half(k) / std::pow(4.0, k);
+        EXPECT_NEAR(m.a[detail::kMonomials<3>.index(k, 0, 0)], exact, 1e-16) << "k=" << k;
+    }
+    // R is the Lagrange term C(1/2, 4) √ξ ξ⁻⁴ u⁴, ξ ∈ [4 − h, 4 + h], u ∈ [−h, h] (√ξ and ξ⁻⁴
+    // enclosed apart), plus rounding: its lower end lies between −(5/128) (4 + h)^{-7/2} h⁴ and
+    // −(5/128) √(4 + h) (4 − h)⁻⁴ h⁴; twice the coefficient would fall below the second.
+    EXPECT_LE(m.r.lower(), -5.0 / 128 * std::pow(4 + h, -3.5) * std::pow(h, 4) * 0.999);
+    EXPECT_GE(m.r.lower(),
+              -5.0 / 128 * std::sqrt(4 + h) * std::pow(4 - h, -4) * std::pow(h, 4) * 1.001);
+}
+
+// √ of an argument whose offset from a₀ excludes 0: the Lagrange term is then not an interval
+// around 0, and a wrong coefficient shows as an unsound enclosure. The argument is a constant
+// model a₀ + [δ, δ] (the value a₀ + δ, everything but a₀ in the remainder), the one case where
+// the rest of the computation is tight enough for the Lagrange term to matter; checked against
+// MPFR over a grid of a₀ and δ of both signs.
+TEST(Taylor, SqrtEnclosesWhenTheOffsetExcludesZero) {
+    const Precision prec{256};
+    int checked = 0;
+    for (const double a0 : {0.5, 1.0, 2.0, 4.0, 9.0, 100.0}) {
+        for (int k = 1; k <= 12; ++k) {
+            for (const double sign : {1.0, -1.0}) {
+                const double delta = sign * std::ldexp(a0, -k);  // exact; a₀ + δ > 0
+                TaylorModel<3> arg(a0);
+                arg.r = Interval(delta);
+                const Interval r = sqrt(arg).range();
+                const MpfrInterval exact = sqrt(MpfrInterval(a0, prec) + MpfrInterval(delta, prec));
+                EXPECT_TRUE(testing::encloses(r.lower(), r.upper(), exact))
+                    << "a0 " << a0 << " delta " << delta << ": [" << r.lower() << ", " << r.upper()
+                    << "] vs " << testing::describe(exact);
+                ++checked;
+            }
+        }
+    }
+    EXPECT_EQ(checked, 144);
+}
+
 /// Width of R on boxes of half-width h: ~ C h^{D+1}. Returns the fitted exponent.
 template <int D>
 double remainder_order(const expr::Tape& tape) {
