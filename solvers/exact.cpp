@@ -171,6 +171,46 @@ ZPoly z_gcd(ZPoly a, ZPoly b) {
     return a;
 }
 
+/// Whether p (of degree ≥ 1) is proven square-free by its image modulo the prime 2⁶¹ − 1: if
+/// gcd(p mod q, p′ mod q) = 1 and q divides neither the leading coefficient nor deg p, p is
+/// square-free over Q (a repeated factor h would keep its degree mod q, lc(h) dividing lc(p), and
+/// divide both images). False means "not proven", not "not square-free".
+bool square_free_mod_prime(const ZPoly& p) {
+    using u64 = std::uint64_t;
+    __extension__ using u128 = unsigned __int128;  // GCC and Clang; products below 2^122
+    constexpr u64 q = (u64{1} << 61) - 1;
+    const auto mul = [](u64 a, u64 b) { return static_cast<u64>(static_cast<u128>(a) * b % q); };
+    const auto inv = [&](u64 a) {  // a^(q−2)
+        u64 r = 1, e = q - 2;
+        for (; e; e >>= 1, a = mul(a, a)) {
+            if (e & 1) r = mul(r, a);
+        }
+        return r;
+    };
+    const auto trim_mod = [](std::vector<u64>& v) {
+        while (!v.empty() && v.back() == 0) v.pop_back();
+    };
+    std::vector<u64> a(p.size()), b;
+    for (std::size_t i = 0; i < p.size(); ++i) a[i] = mpz_fdiv_ui(p[i].get_mpz_t(), q);
+    if (a.back() == 0 || (p.size() - 1) % q == 0) return false;
+    for (std::size_t i = 1; i < a.size(); ++i) b.push_back(mul(a[i], i % q));
+    trim_mod(b);
+    while (!b.empty()) {  // Euclid over GF(q)
+        const u64 lb = inv(b.back());
+        while (a.size() >= b.size()) {
+            const u64 f = mul(a.back(), lb);
+            const std::size_t shift = a.size() - b.size();
+            for (std::size_t i = 0; i < b.size(); ++i) {
+                a[i + shift] = (a[i + shift] + q - mul(f, b[i])) % q;
+            }
+            trim_mod(a);
+            if (a.empty()) break;
+        }
+        std::swap(a, b);
+    }
+    return a.size() == 1;  // the gcd is a nonzero constant
+}
+
 /// a / b for b dividing a in Q[t], a and b primitive: the quotient is in Z[t] (Gauss's lemma),
 /// so every leading-coefficient division is exact.
 ZPoly z_divexact(ZPoly a, const ZPoly& b) {
@@ -378,8 +418,12 @@ void Search::run(const Ray& ray, const ExactPoly& g) {
     make_primitive(g0);
     chain_.clear();
     chain_.push_back(g0);
-    chain_.push_back(z_gcd(g0, z_derivative(g0)));
-    const ZPoly p = z_divexact(g0, chain_[1]);
+    if (square_free_mod_prime(g0)) {  // the common case: no gcd over Z needed
+        chain_.push_back(ZPoly{mpz_class(1)});
+    } else {
+        chain_.push_back(z_gcd(g0, z_derivative(g0)));
+    }
+    const ZPoly p = z_degree(chain_[1]) == 0 ? g0 : z_divexact(g0, chain_[1]);
 
     // Cauchy: every root r of p has |r| ≤ 1 + max_{i<n} |a_i / a_n| < 2^(max(c, 0) + 1), with
     // c = bits(max |a_i|) − bits(|a_n|) + 1.
