@@ -543,7 +543,7 @@ std::string why_not_exact_polynomial(const expr::Tape& tape) {
             case expr::Op::Log:
             case expr::Op::Sin:
             case expr::Op::Cos:
-                return std::string(expr::name(in.op)) + " (not rational)" + where(i);
+                return std::string(expr::name(in.op)) + ", not rational" + where(i);
             case expr::Op::Div:
                 if (vb) return "division by a non-constant" + where(i);
                 varying[i] = va;

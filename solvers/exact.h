@@ -55,7 +55,8 @@ struct ExactRoot {
 
 /// Empty when the tape is a polynomial in x, y, z with rational coefficients (Const, Var*, Neg,
 /// Add, Sub, Mul, Square, Pow; Div by, and Abs, Min, Max of, expressions free of x, y, z), else a
-/// sentence naming the first instruction that is not, e.g. "sqrt (instruction 7 of 11)".
+/// sentence naming the first instruction that is not, e.g. "sqrt, not rational (instruction 7
+/// of 11)".
 /// Depends on the instructions only, not on a ray.
 std::string why_not_exact_polynomial(const expr::Tape& tape);
 
