@@ -16,6 +16,7 @@
 #include "interval/dual.h"
 #include "interval/interval.h"
 #include "interval/mpfr_interval.h"
+#include "solvers/exact.h"
 
 namespace certray::solvers {
 
@@ -393,7 +394,21 @@ RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
                                const CertifiedOptions& options) {
     NearestScope env;  // sound in any caller's floating-point environment (interval/interval.h)
     thread_local Scratch<Interval> scratch;
-    return Solver<Interval>(tape, ray, options, scratch).solve();
+    RayResult r = Solver<Interval>(tape, ray, options, scratch).solve();
+    if (r.status == Status::Miss || (r.status == Status::Hit && narrow(r.t_lo, r.t_hi))) return r;
+    // Undecided or wide: on a polynomial scene the exact oracle decides, within what is left of
+    // the budget (its evaluations added). It is never less certain than this answer.
+    const std::uint64_t spent = r.evals.total();
+    if (spent >= options.budget || !is_polynomial(tape)) return r;
+    ExactOptions exact;
+    exact.budget = options.budget - spent;
+    RayResult e = exact_first_root(tape, ray, exact);
+    e.evals += r.evals;
+    if (e.status == Status::Unknown) {
+        r.evals = e.evals;
+        return r;
+    }
+    return e;
 }
 
 RayResult certified_first_root_reference(const expr::Tape& tape, const Ray& ray,

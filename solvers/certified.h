@@ -25,7 +25,11 @@ struct CertifiedOptions {
 };
 
 /// The first root of g(t) = f(o + t·d) on [ray.tmin, ray.tmax], certified (see the contract).
-/// Thread-safe: each thread uses its own scratch space, allocated once.
+/// When the interval search ends Unknown, or with a Hit wider than 4 ulps, and the tape is a
+/// polynomial (solvers/exact.h, is_polynomial), the exact rational oracle re-decides within what
+/// is left of the budget and its answer is returned, with its evaluations added (a tangent root
+/// becomes a Hit of adjacent doubles). Thread-safe: each thread uses its own scratch space,
+/// allocated once.
 RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
                                const CertifiedOptions& options = {});
 

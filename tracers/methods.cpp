@@ -10,6 +10,7 @@
 #include "expr/derived.h"
 #include "solvers/analytic.h"
 #include "solvers/certified.h"
+#include "solvers/exact.h"
 #include "solvers/hermite.h"
 #include "tracers/approx.h"
 #include "tracers/bounding.h"
@@ -247,6 +248,23 @@ const Entry kMethods[] = {
      "clipping (Nishita 1994) on the interval coefficients; certified; knob: --budget",
      [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
          return make_analytic(tape, o, solvers::AnalyticOptions::Mode::Bernstein, "bernstein");
+     }},
+    {"exact",
+     "polynomial scenes: g's coefficients in exact rational arithmetic (GMP), its first root "
+     "isolated by a Sturm sequence (Sturm 1829) and bisection at doubles to adjacent doubles, "
+     "with its multiplicity; tangent and clustered roots proven; degree at most 64; certified; "
+     "knob: --budget",
+     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+         const std::string why = solvers::why_not_exact_polynomial(tape);
+         if (!why.empty()) {
+             throw std::invalid_argument(
+                 "method 'exact' does not apply to this scene: f is not a polynomial in x, y, z "
+                 "with rational coefficients (" +
+                 why + "); use certified");
+         }
+         solvers::ExactOptions opt;
+         opt.budget = o.budget;
+         return [&tape, opt](const Ray& ray) { return solvers::exact_first_root(tape, ray, opt); };
      }},
     {"hermite",
      "g and g' sampled at --samples + 1 points, cubic Hermite pieces solved in turn (Sherstyuk "

@@ -5,6 +5,8 @@
 // reference must give zero wrong answers; the certified solver must prove every simple root.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -12,6 +14,7 @@
 #include "expr/load.h"
 #include "expr/tape.h"
 #include "solvers/certified.h"
+#include "solvers/exact.h"
 #include "solvers/ray.h"
 #include "tests/support/fp_env.h"
 #include "tests/support/stress_cases.h"
@@ -77,6 +80,26 @@ TEST_F(Stress, MpfrReferenceIsNeverWrong) {
               }),
               true);
     }
+}
+
+// The exact oracle on the polynomial scenes decides every case: tangents and near misses too.
+TEST_F(Stress, ExactDecidesEveryPolynomialCase) {
+    int polynomial = 0;
+    for (const Case& c : *cases_) {
+        const expr::Tape& tape = tapes_->at(c.scene);
+        if (!is_polynomial(tape)) continue;
+        ++polynomial;
+        const RayResult r = exact_first_root(tape, c.ray);
+        check(c, r, true);
+        SCOPED_TRACE(c.label);
+        if (c.expect == "miss" || c.expect == "nohit") {
+            EXPECT_EQ(r.status, Status::Miss);
+        } else {
+            ASSERT_EQ(r.status, Status::Hit);
+            EXPECT_LE(r.t_hi, std::nextafter(r.t_lo, std::numeric_limits<double>::infinity()));
+        }
+    }
+    EXPECT_GE(polynomial, 6);  // quadric, touch, subnormal, cluster10
 }
 
 TEST_F(Stress, SmallBudgetsStayHonest) {

@@ -71,9 +71,12 @@ TEST(Render, EveryMethodAgreesWithTheCertifiedSolverPixelByPixel) {
         ASSERT_GT(ref.stats.miss, 50u);
         for (const std::string& m : method_names()) {
             if (m == "reference") continue;  // MPFR: slow, and tested with the solver
-            if ((m == "analytic" || m == "bernstein") && scene == &torus) continue;  // not poly
+            if ((m == "analytic" || m == "bernstein" || m == "exact") && scene == &torus) {
+                continue;  // not polynomial
+            }
             const RenderResult r = render_3d(*scene, make_method(m, *scene, mo), o);
-            const bool certified = m.starts_with("certified") || m == "approx" || m == "bernstein";
+            const bool certified =
+                m.starts_with("certified") || m == "approx" || m == "bernstein" || m == "exact";
             answered[m] += r.stats.hit + r.stats.miss;
             unsigned differ = 0;
             for (std::size_t i = 0; i < ref.answers.status.size(); ++i) {
