@@ -17,6 +17,8 @@
 #include <limits>
 #include <utility>
 
+#include "interval/interval.h"
+
 namespace certray::solvers {
 
 namespace {
@@ -579,6 +581,7 @@ bool is_polynomial(const expr::Tape& tape) {
 }
 
 std::optional<ExactPoly> exact_polynomial(const expr::Tape& tape, const Ray& ray) {
+    NearestScope env;  // GMP reads doubles with the FPU: not under a caller's DAZ
     for (int i = 0; i < 3; ++i) {
         if (!std::isfinite(ray.o[i]) || !std::isfinite(ray.d[i])) return std::nullopt;
     }
@@ -659,6 +662,7 @@ std::optional<ExactPoly> exact_polynomial(const expr::Tape& tape, const Ray& ray
 }
 
 ExactRoot exact_root(const expr::Tape& tape, const Ray& ray, const ExactOptions& options) {
+    NearestScope env;  // GMP reads and writes doubles with the FPU: not under FTZ|DAZ
     ExactRoot out;
     ++out.result.evals.interval;
     const std::optional<ExactPoly> g =

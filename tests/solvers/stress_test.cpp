@@ -89,7 +89,7 @@ TEST_F(Stress, ExactDecidesEveryPolynomialCase) {
         const expr::Tape& tape = tapes_->at(c.scene);
         if (!is_polynomial(tape)) continue;
         ++polynomial;
-        const RayResult r = exact_first_root(tape, c.ray);
+        const RayResult r = testing::as_host([&] { return exact_first_root(tape, c.ray); });
         check(c, r, true);
         SCOPED_TRACE(c.label);
         if (c.expect == "miss" || c.expect == "nohit") {
