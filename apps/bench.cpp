@@ -113,17 +113,6 @@ using namespace study;  // NOLINT(google-build-using-namespace): the study's own
 
 namespace {
 
-bool registry_certified(const std::string& name) {
-    std::istringstream in(tracers::describe_methods());
-    for (std::string line; std::getline(in, line);) {
-        if (line.rfind(name + ":", 0) == 0) {
-            return line.find("approximate") == std::string::npos &&
-                   line.find("certified") != std::string::npos;
-        }
-    }
-    return false;
-}
-
 /// The knob sweep of each method (docs/theory/bench.md).
 std::vector<Config> make_configs(const BenchOptions& o, bool stress) {
     std::vector<std::string> names = o.methods;
@@ -144,61 +133,36 @@ std::vector<Config> make_configs(const BenchOptions& o, bool stress) {
             continue;
         }
         if (m == "reference" && (!stress || o.quick)) continue;  // the truth itself; slow
+        const tracers::MethodInfo& info = tracers::method_info(m);
         Config base;
         base.method = m;
-        base.certified = registry_certified(m);
-        auto sweep = [&](const std::string& knob, std::vector<double> values, auto set) {
-            for (double v : pick(values)) {
+        base.certified = info.certified;
+        if (info.sweep.empty()) out.push_back(base);
+        // Each knob of the registry's sweep (quick: the first knob only, at both ends).
+        for (std::size_t k = 0; k < info.sweep.size() && !(o.quick && k > 0); ++k) {
+            const tracers::Sweep& sw = info.sweep[k];
+            const tracers::Knob* knob = nullptr;
+            for (const tracers::Knob& kn : tracers::knobs()) {
+                if (kn.name == sw.knob) knob = &kn;
+            }
+            // The default run is the swept value nearest the knob's default.
+            const double d = knob->get(def);
+            double nearest = sw.values.front();
+            for (double v : sw.values) {
+                if (std::abs(std::log(v / d)) <= std::abs(std::log(nearest / d))) nearest = v;
+            }
+            for (double v : pick(sw.values)) {
                 Config c = base;
-                c.knob = knob;
+                c.knob = std::string(sw.knob);
                 c.value = v;
-                set(c.opts, v);
-                c.is_default = false;
+                knob->set(c.opts, v);
+                c.is_default = v == nearest && k == 0;
                 out.push_back(c);
             }
-        };
-        if (m.rfind("certified", 0) == 0) {
-            sweep("budget", {30, 100, 1000, 20000}, [](tracers::MethodOptions& p, double v) {
-                p.budget = static_cast<std::uint64_t>(v);
-            });
-            if (m == "certified-octree" && !o.quick) {
-                sweep("depth", {3, 7},
-                      [](tracers::MethodOptions& p, double v) { p.depth = static_cast<int>(v); });
-            }
-        } else if (m == "approx" || m == "approx-plain") {
-            sweep("depth", o.quick ? std::vector<double>{5} : std::vector<double>{3, 5, 7},
-                  [](tracers::MethodOptions& p, double v) { p.depth = static_cast<int>(v); });
-        } else if (m == "march") {
-            sweep("step", {0.1, 0.03, 0.01, 0.003},
-                  [](tracers::MethodOptions& p, double v) { p.step = v; });
-        } else if (m == "sphere" || m == "enhanced" || m == "segment" || m == "octree" ||
-                   m == "bvh") {
-            sweep("epsilon", {1e-2, 1e-4, 1e-6, 1e-9},
-                  [](tracers::MethodOptions& p, double v) { p.epsilon = v; });
-            if (m == "octree" && !o.quick) {
-                sweep("depth", {3, 7},
-                      [](tracers::MethodOptions& p, double v) { p.depth = static_cast<int>(v); });
-            }
-            if (m == "enhanced") {
-                sweep("kappa", o.quick ? std::vector<double>{0.5} : std::vector<double>{0.2, 0.5},
-                      [](tracers::MethodOptions& p, double v) { p.kappa = v; });
-            }
-        } else if (m == "hermite") {
-            sweep("samples", {8, 32, 128}, [](tracers::MethodOptions& p, double v) {
-                p.samples = static_cast<unsigned>(v);
-            });
-        } else {
-            out.push_back(base);
         }
     }
     for (Config& c : out) {
-        c.is_default =
-            c.knob == "default" ||
-            (c.knob == "budget" && c.value == static_cast<double>(def.budget)) ||
-            (c.knob == "epsilon" && c.value == def.epsilon) ||
-            (c.knob == "step" && c.value == def.step) ||
-            (c.knob == "depth" && c.value == def.depth && c.method.starts_with("approx"));
-        if (c.knob == "samples" && c.value == 128) c.is_default = true;  // closest to 64
+        if (c.knob == "default") c.is_default = true;
         c.tol_epsilon =
             c.method == "march" ? std::max(c.opts.epsilon, c.opts.step) : c.opts.epsilon;
     }

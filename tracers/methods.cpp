@@ -2,6 +2,8 @@
 #include "tracers/methods.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -143,203 +145,380 @@ ApproxOptions approx_options(const MethodOptions& o) {
 }
 
 struct Entry {
-    std::string_view name;
-    std::string_view summary;
+    MethodInfo info;
     RayFunction (*make)(const expr::Tape&, const MethodOptions&);
 };
 
-const Entry kMethods[] = {
-    {"certified",
-     "interval bisection with interval Newton (Snyder 1992); certified; knob: --budget",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         return make_certified(tape, o, false);
-     }},
-    {"certified-affine",
-     "certified, where the interval enclosure of g over a parameter interval holds 0 it is "
-     "intersected with the affine form of g in t (tighter on long segments; one more "
-     "evaluation); certified; knob: --budget",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         return make_certified(tape, o, true);
-     }},
-    {"march",
-     "ray marching with a fixed step (Perlin 1989), a sign change refined to --epsilon; "
-     "approximate (skips features thinner than the step); knobs: --step, --epsilon, --budget, "
-     "--bounds",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         return make_clipped_tracer(tape, o, &march);
-     }},
-    {"sphere",
-     "sphere tracing (Hart 1996) with a proven global Lipschitz bound from the DAG (over "
-     "--bounds, else over each ray's segment); never steps past the first root; knobs: "
-     "--epsilon, --budget, --bounds",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         return make_lipschitz_tracer(tape, o, &sphere_trace);
-     }},
-    {"enhanced",
-     "enhanced sphere tracing (Keinert 2014): over-relaxed steps (1 + kappa)|f|/lambda with the "
-     "step-back rule, same guarantee; knobs: --kappa, --epsilon, --budget, --bounds",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         return make_lipschitz_tracer(tape, o, &enhanced_trace);
-     }},
-    {"segment",
-     "segment tracing (Galin 2020) with local bounds of |grad f . d| over each segment from the "
-     "DAG's interval derivatives; never steps past the first root; knobs: --epsilon, --budget, "
-     "--bounds",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         return make_clipped_tracer(tape, o, &segment_trace);
-     }},
-    {"certified-bvh",
-     "certified, with bounding volumes: inside the bounds (default [-2,2]^3) each ray's tape "
-     "keeps only the primitives whose boxes its segment meets (same zeros and sign along it), "
-     "outside them the full tape; certified; knobs: --budget, --bounds",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         auto scene = std::make_shared<const BoundedScene>(tape, octree_bounds(o));
-         const std::uint64_t budget = o.budget;
-         return [scene, budget](const Ray& ray) { return bounded_certified(*scene, ray, budget); };
-     }},
-    {"certified-octree",
-     "certified, accelerated by an octree over the bounds (default [-2,2]^3, --depth 5): empty and "
-     "full cells skipped, each ambiguous cell solved with its pruned tape; the ray outside the "
-     "bounds with the full tape; certified; knobs: --budget, --bounds, --depth",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         auto tree = std::make_shared<const Octree>(tape, octree_bounds(o),
-                                                    OctreeOptions{o.depth, std::size_t{1} << 20});
-         solvers::CertifiedOptions opt;
-         opt.budget = o.budget;
-         return [tree, opt](const Ray& ray) { return tree->certified(ray, opt); };
-     }},
-    {"octree",
-     "sphere tracing with the local Lipschitz bound of each octree cell (Hart 1996) inside the "
-     "bounds (default [-2,2]^3, --depth 5); before and after them, segment tracing; approximate, "
-     "never steps past the first root; knobs: --epsilon, --budget, "
-     "--bounds, --depth",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         auto tree = std::make_shared<const Octree>(tape, octree_bounds(o),
-                                                    OctreeOptions{o.depth, std::size_t{1} << 20});
-         return inside_and_out(tape, tree->bounds(), trace_options(o),
-                               [tree](const Ray& ray, const TraceOptions& opt) {
-                                   return tree->sphere(ray, opt.epsilon, opt.budget);
-                               });
-     }},
-    {"bvh",
-     "sphere tracing with bounding volumes (Hart 1996): f's unions, intersections and "
-     "complements down to its primitives, each with a box (interval slab contraction) and a "
-     "Lipschitz bound, unions as a BVH; a primitive far from the point is bounded by the "
-     "distance to its box. Inside the bounds (default [-2,2]^3); before and after them, segment "
-     "tracing; approximate, never steps past the first root; knobs: "
-     "--epsilon, --budget, --bounds",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         auto scene = std::make_shared<const BoundedScene>(tape, octree_bounds(o));
-         return inside_and_out(tape, scene->bounds(), trace_options(o),
-                               [scene](const Ray& ray, const TraceOptions& opt) {
-                                   return bounded_sphere_trace(*scene, ray, opt);
-                               });
-     }},
-    {"analytic",
-     "piecewise-polynomial scenes (algebraic, CSG and blobs of polynomials): g's coefficients "
-     "from one evaluation over polynomials in t, split where a min/max/abs branch changes "
-     "(Wyvill 1990), each piece by closed forms up to degree 4 (approximate) and Bernstein "
-     "clipping above (certified); knob: --budget",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         return make_analytic(tape, o, solvers::AnalyticOptions::Mode::ClosedForm, "analytic");
-     }},
-    {"bernstein",
-     "piecewise-polynomial scenes: every piece by Bernstein-basis isolation with Bezier "
-     "clipping (Nishita 1994) on the interval coefficients; certified; knob: --budget",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         return make_analytic(tape, o, solvers::AnalyticOptions::Mode::Bernstein, "bernstein");
-     }},
-    {"exact",
-     "polynomial scenes: g's coefficients in exact rational arithmetic (GMP), its first root "
-     "isolated by a Sturm sequence (Sturm 1829) and bisection at doubles to adjacent doubles, "
-     "with its multiplicity; tangent and clustered roots proven; degree at most 64; certified; "
-     "knob: --budget",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         const std::string why = solvers::why_not_exact_polynomial(tape);
-         if (!why.empty()) {
-             throw std::invalid_argument(
-                 "method 'exact' does not apply to this scene: f is not a polynomial in x, y, z "
-                 "with rational coefficients (" +
-                 why + "); use certified");
-         }
-         solvers::ExactOptions opt;
-         opt.budget = o.budget;
-         return [&tape, opt](const Ray& ray) { return solvers::exact_first_root(tape, ray, opt); };
-     }},
-    {"hermite",
-     "g and g' sampled at --samples + 1 points, cubic Hermite pieces solved in turn (Sherstyuk "
-     "1999); approximate (misses features thinner than the spacing); knob: --samples",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         solvers::HermiteOptions opt;
-         opt.samples = o.samples;
-         return
-             [&tape, opt](const Ray& ray) { return solvers::hermite_first_root(tape, ray, opt); };
-     }},
-    {"approx",
-     "certified, per-cell Taylor models (a degree 1-3 polynomial with a proven remainder) on the "
-     "ambiguous cells of an octree over the bounds (default [-2,2]^3, --depth 5): parts of a "
-     "cell's "
-     "segment excluded by the model, the rest finished by the certified solver on the pruned "
-     "tape; the ray outside the bounds with the full tape; certified; knobs: --budget, --bounds, "
-     "--depth",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         auto approx = std::make_shared<const Approx>(tape, octree_bounds(o), approx_options(o));
-         solvers::CertifiedOptions opt;
-         opt.budget = o.budget;
-         return [approx, opt](const Ray& ray) { return approx->certified(ray, opt); };
-     }},
-    {"approx-plain",
-     "the per-cell polynomial models of approx without their remainder, solved in closed form "
-     "(cubic) on each ambiguous cell's segment; the scene is taken as empty outside the bounds; "
-     "approximate (may miss or invent roots); knobs: --bounds, --depth",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         auto approx = std::make_shared<const Approx>(tape, octree_bounds(o), approx_options(o));
-         return [approx](const Ray& ray) { return approx->plain(ray); };
-     }},
-    {"reference",
-     "certified, every evaluation in 256-bit MPFR intervals: enclosures of adjacent doubles, the "
-     "ground truth of the benchmarks (about 100x slower); certified; knob: --budget",
-     [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-         solvers::CertifiedOptions opt;
-         opt.budget = o.budget;
-         return [&tape, opt](const Ray& ray) {
-             return solvers::certified_first_root_reference(tape, ray, opt);
-         };
-     }},
-};
+/// The methods, in the order `--help` lists them.
+const std::vector<Entry>& entries() {
+    static const std::vector<Entry> kMethods = {
+        {{"certified",
+          true,
+          "interval bisection with interval Newton (Snyder 1992)",
+          {"budget"},
+          {{"budget", {30, 100, 1000, 20000}}}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             return make_certified(tape, o, false);
+         }},
+        {{"certified-affine",
+          true,
+          "certified, where the interval enclosure of g over a parameter interval holds 0 it is "
+          "intersected with the affine form of g in t (tighter on long segments; one more "
+          "evaluation)",
+          {"budget"},
+          {{"budget", {30, 100, 1000, 20000}}}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             return make_certified(tape, o, true);
+         }},
+        {{"march",
+          false,
+          "ray marching with a fixed step (Perlin 1989), a sign change refined to --epsilon; "
+          "approximate (skips features thinner than the step)",
+          {"step", "epsilon", "budget", "bounds"},
+          {{"step", {0.1, 0.03, 0.01, 0.003}}}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             return make_clipped_tracer(tape, o, &march);
+         }},
+        {{"sphere",
+          false,
+          "sphere tracing (Hart 1996) with a proven global Lipschitz bound from the DAG (over "
+          "--bounds, else over each ray's segment); never steps past the first root",
+          {"epsilon", "budget", "bounds"},
+          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             return make_lipschitz_tracer(tape, o, &sphere_trace);
+         }},
+        {{"enhanced",
+          false,
+          "enhanced sphere tracing (Keinert 2014): over-relaxed steps (1 + kappa)|f|/lambda with "
+          "the step-back rule, same guarantee",
+          {"kappa", "epsilon", "budget", "bounds"},
+          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}, {"kappa", {0.2, 0.5}}}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             return make_lipschitz_tracer(tape, o, &enhanced_trace);
+         }},
+        {{"segment",
+          false,
+          "segment tracing (Galin 2020) with local bounds of |grad f . d| over each segment from "
+          "the DAG's interval derivatives; never steps past the first root",
+          {"epsilon", "budget", "bounds"},
+          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             return make_clipped_tracer(tape, o, &segment_trace);
+         }},
+        {{"certified-bvh",
+          true,
+          "certified, with bounding volumes: inside the bounds (default [-2,2]^3) each ray's tape "
+          "keeps only the primitives whose boxes its segment meets (same zeros and sign along "
+          "it), outside them the full tape",
+          {"budget", "bounds"},
+          {{"budget", {30, 100, 1000, 20000}}}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             auto scene = std::make_shared<const BoundedScene>(tape, octree_bounds(o));
+             const std::uint64_t budget = o.budget;
+             return
+                 [scene, budget](const Ray& ray) { return bounded_certified(*scene, ray, budget); };
+         }},
+        {{"certified-octree",
+          true,
+          "certified, accelerated by an octree over the bounds (default [-2,2]^3, --depth 5): "
+          "empty and full cells skipped, each ambiguous cell solved with its pruned tape; the ray "
+          "outside the bounds with the full tape",
+          {"budget", "bounds", "depth"},
+          {{"budget", {30, 100, 1000, 20000}}, {"depth", {3, 7}}}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             auto tree = std::make_shared<const Octree>(
+                 tape, octree_bounds(o), OctreeOptions{o.depth, std::size_t{1} << 20});
+             solvers::CertifiedOptions opt;
+             opt.budget = o.budget;
+             return [tree, opt](const Ray& ray) { return tree->certified(ray, opt); };
+         }},
+        {{"octree",
+          false,
+          "sphere tracing with the local Lipschitz bound of each octree cell (Hart 1996) inside "
+          "the bounds (default [-2,2]^3, --depth 5); before and after them, segment tracing; "
+          "approximate, never steps past the first root",
+          {"epsilon", "budget", "bounds", "depth"},
+          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}, {"depth", {3, 7}}}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             auto tree = std::make_shared<const Octree>(
+                 tape, octree_bounds(o), OctreeOptions{o.depth, std::size_t{1} << 20});
+             return inside_and_out(tape, tree->bounds(), trace_options(o),
+                                   [tree](const Ray& ray, const TraceOptions& opt) {
+                                       return tree->sphere(ray, opt.epsilon, opt.budget);
+                                   });
+         }},
+        {{"bvh",
+          false,
+          "sphere tracing with bounding volumes (Hart 1996): f's unions, intersections and "
+          "complements down to its primitives, each with a box (interval slab contraction) and a "
+          "Lipschitz bound, unions as a BVH; a primitive far from the point is bounded by the "
+          "distance to its box. Inside the bounds (default [-2,2]^3); before and after them, "
+          "segment tracing; approximate, never steps past the first root",
+          {"epsilon", "budget", "bounds"},
+          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             auto scene = std::make_shared<const BoundedScene>(tape, octree_bounds(o));
+             return inside_and_out(tape, scene->bounds(), trace_options(o),
+                                   [scene](const Ray& ray, const TraceOptions& opt) {
+                                       return bounded_sphere_trace(*scene, ray, opt);
+                                   });
+         }},
+        {{"analytic",
+          false,
+          "piecewise-polynomial scenes (algebraic, CSG and blobs of polynomials): g's "
+          "coefficients from one evaluation over polynomials in t, split where a min/max/abs "
+          "branch changes (Wyvill 1990), each piece by closed forms up to degree 4 (approximate) "
+          "and Bernstein clipping above (certified)",
+          {"budget"},
+          {}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             return make_analytic(tape, o, solvers::AnalyticOptions::Mode::ClosedForm, "analytic");
+         }},
+        {{"bernstein",
+          true,
+          "piecewise-polynomial scenes: every piece by Bernstein-basis isolation with Bezier "
+          "clipping (Nishita 1994) on the interval coefficients",
+          {"budget"},
+          {}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             return make_analytic(tape, o, solvers::AnalyticOptions::Mode::Bernstein, "bernstein");
+         }},
+        {{"exact",
+          true,
+          "polynomial scenes: g's coefficients in exact rational arithmetic (GMP), its first root "
+          "isolated by a Sturm sequence (Sturm 1829) and bisection at doubles to adjacent "
+          "doubles, with its multiplicity; tangent and clustered roots proven; degree at most 64",
+          {"budget"},
+          {}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             const std::string why = solvers::why_not_exact_polynomial(tape);
+             if (!why.empty()) {
+                 throw std::invalid_argument(
+                     "method 'exact' does not apply to this scene: f is not a polynomial in x, y, "
+                     "z "
+                     "with rational coefficients (" +
+                     why + "); use certified");
+             }
+             solvers::ExactOptions opt;
+             opt.budget = o.budget;
+             return
+                 [&tape, opt](const Ray& ray) { return solvers::exact_first_root(tape, ray, opt); };
+         }},
+        {{"hermite",
+          false,
+          "g and g' sampled at --samples + 1 points, cubic Hermite pieces solved in turn "
+          "(Sherstyuk 1999); approximate (misses features thinner than the spacing)",
+          {"samples"},
+          {{"samples", {8, 32, 128}}}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             solvers::HermiteOptions opt;
+             opt.samples = o.samples;
+             return [&tape, opt](const Ray& ray) {
+                 return solvers::hermite_first_root(tape, ray, opt);
+             };
+         }},
+        {{"approx",
+          true,
+          "certified, per-cell Taylor models (a degree 1-3 polynomial with a proven remainder) on "
+          "the ambiguous cells of an octree over the bounds (default [-2,2]^3, --depth 5): parts "
+          "of a cell's segment excluded by the model, the rest finished by the certified solver "
+          "on the pruned tape; the ray outside the bounds with the full tape",
+          {"budget", "bounds", "depth"},
+          {{"depth", {3, 5, 7}}}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             auto approx =
+                 std::make_shared<const Approx>(tape, octree_bounds(o), approx_options(o));
+             solvers::CertifiedOptions opt;
+             opt.budget = o.budget;
+             return [approx, opt](const Ray& ray) { return approx->certified(ray, opt); };
+         }},
+        {{"approx-plain",
+          false,
+          "the per-cell polynomial models of approx without their remainder, solved in closed "
+          "form (cubic) on each ambiguous cell's segment; the scene is taken as empty outside the "
+          "bounds; approximate (may miss or invent roots)",
+          {"bounds", "depth"},
+          {{"depth", {3, 5, 7}}}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             auto approx =
+                 std::make_shared<const Approx>(tape, octree_bounds(o), approx_options(o));
+             return [approx](const Ray& ray) { return approx->plain(ray); };
+         }},
+        {{"reference",
+          true,
+          "certified, every evaluation in 256-bit MPFR intervals: enclosures of adjacent doubles, "
+          "the ground truth of the benchmarks (about 100x slower)",
+          {"budget"},
+          {}},
+         [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
+             solvers::CertifiedOptions opt;
+             opt.budget = o.budget;
+             return [&tape, opt](const Ray& ray) {
+                 return solvers::certified_first_root_reference(tape, ray, opt);
+             };
+         }},
+    };
+    return kMethods;
+}
 
 }  // namespace
 
+const std::vector<Knob>& knobs() {
+    constexpr double kHuge = 1e300;
+    static const std::vector<Knob> kKnobs = {
+        {"budget", KnobKind::Count, "most whole-tape evaluations per ray before answering unknown",
+         1, 1e18, [](const MethodOptions& o) { return static_cast<double>(o.budget); },
+         [](MethodOptions& o, double v) { o.budget = static_cast<std::uint64_t>(v); }},
+        {"epsilon", KnobKind::Real,
+         "convergence distance of the tracers (scene units): a hit when |f|/lambda < epsilon",
+         1e-300, kHuge, [](const MethodOptions& o) { return o.epsilon; },
+         [](MethodOptions& o, double v) { o.epsilon = v; }},
+        {"step", KnobKind::Real, "fixed step of ray marching (scene units)", 1e-300, kHuge,
+         [](const MethodOptions& o) { return o.step; },
+         [](MethodOptions& o, double v) { o.step = v; }},
+        {"kappa", KnobKind::Real,
+         "over-relaxation of enhanced sphere tracing: steps of (1 + kappa)|f|/lambda", 0, 1,
+         [](const MethodOptions& o) { return o.kappa; },
+         [](MethodOptions& o, double v) { o.kappa = v; }},
+        {"samples", KnobKind::Count, "samples along the ray of the Hermite method", 1, 1e6,
+         [](const MethodOptions& o) { return static_cast<double>(o.samples); },
+         [](MethodOptions& o, double v) { o.samples = static_cast<unsigned>(v); }},
+        {"depth", KnobKind::Integer, "subdivision depth of the octree methods", 0, 10,
+         [](const MethodOptions& o) { return static_cast<double>(o.depth); },
+         [](MethodOptions& o, double v) { o.depth = static_cast<int>(v); }},
+        {"bounds", KnobKind::Bounds,
+         "the scene bounds, the cube [lo, hi]^3: where global constants and octrees are computed "
+         "(unset: each ray's own segment; octrees and bounding volumes [-2, 2]^3)",
+         -kHuge, kHuge, [](const MethodOptions&) { return 0.0; }, [](MethodOptions&, double) {}},
+    };
+    return kKnobs;
+}
+
+const std::vector<MethodInfo>& method_infos() {
+    static const std::vector<MethodInfo> kInfos = [] {
+        std::vector<MethodInfo> v;
+        for (const Entry& e : entries()) v.push_back(e.info);
+        return v;
+    }();
+    return kInfos;
+}
+
+namespace {
+
+std::string joined(const std::vector<std::string_view>& names) {
+    std::string s;
+    for (std::string_view n : names) s += (s.empty() ? "" : ", ") + std::string(n);
+    return s;
+}
+
+const Entry& entry(std::string_view name) {
+    for (const Entry& e : entries()) {
+        if (e.info.name == name) return e;
+    }
+    std::vector<std::string_view> names;
+    for (const Entry& e : entries()) names.push_back(e.info.name);
+    throw std::invalid_argument("unknown method '" + std::string(name) +
+                                "'; available methods: " + joined(names));
+}
+
+const Knob* find_knob(std::string_view name) {
+    for (const Knob& k : knobs()) {
+        if (k.name == name) return &k;
+    }
+    return nullptr;
+}
+
+std::string format_value(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+}  // namespace
+
+const MethodInfo& method_info(std::string_view name) { return entry(name).info; }
+
 std::vector<std::string> method_names() {
     std::vector<std::string> names;
-    for (const Entry& e : kMethods) names.emplace_back(e.name);
+    for (const Entry& e : entries()) names.emplace_back(e.info.name);
     return names;
 }
 
 std::string describe_methods() {
+    const MethodOptions defaults;
     std::string s;
-    for (const Entry& e : kMethods) {
-        s += std::string(e.name) + ": " + std::string(e.summary) + "\n";
+    for (const Entry& e : entries()) {
+        s += std::string(e.info.name) + " (" + (e.info.certified ? "certified" : "approximate") +
+             "): " + std::string(e.info.summary) + "\n    knobs:";
+        for (std::string_view k : e.info.knobs) {
+            const Knob* knob = find_knob(k);
+            s += " --" + std::string(k);
+            if (knob && knob->kind != KnobKind::Bounds) {
+                s += " (default " + format_value(knob->get(defaults)) + ")";
+            }
+        }
+        if (e.info.knobs.empty()) s += " none";
+        s += "\n";
     }
     return s;
 }
 
+MethodOptions resolve_knobs(std::string_view name, const KnobValues& given) {
+    const MethodInfo& info = method_info(name);
+    MethodOptions o;
+    auto reads = [&](std::string_view knob) {
+        for (std::string_view k : info.knobs) {
+            if (k == knob) return true;
+        }
+        return false;
+    };
+    auto refuse = [&](std::string_view knob) {
+        throw std::invalid_argument(
+            "method '" + std::string(name) + "' does not read '" + std::string(knob) +
+            "'; its knobs: " + (info.knobs.empty() ? std::string("none") : joined(info.knobs)));
+    };
+    for (const auto& [knob_name, value] : given.values) {
+        const Knob* knob = find_knob(knob_name);
+        if (!knob || knob->kind == KnobKind::Bounds) {
+            std::vector<std::string_view> all;
+            for (const Knob& k : knobs()) all.push_back(k.name);
+            throw std::invalid_argument("unknown knob '" + knob_name + "'; knobs: " + joined(all));
+        }
+        if (!reads(knob->name)) refuse(knob->name);
+        const bool integral = knob->kind != KnobKind::Real;
+        if (!(value >= knob->min && value <= knob->max) ||
+            (integral && value != std::floor(value))) {
+            throw std::invalid_argument("knob '" + knob_name + "' = " + format_value(value) +
+                                        ": expected " + (integral ? "an integer" : "a number") +
+                                        " in [" + format_value(knob->min) + ", " +
+                                        format_value(knob->max) + "]");
+        }
+        knob->set(o, value);
+    }
+    if (given.bounds) {
+        if (!reads("bounds")) refuse("bounds");
+        const auto [lo, hi] = *given.bounds;
+        if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi)) {
+            throw std::invalid_argument("bounds [" + format_value(lo) + ", " + format_value(hi) +
+                                        "]: expected finite lo < hi");
+        }
+        const Interval b(lo, hi);
+        o.bounds = std::array<Interval, 3>{b, b, b};
+    }
+    return o;
+}
+
 RayFunction make_method(std::string_view name, const expr::Tape& tape,
                         const MethodOptions& options) {
-    for (const Entry& e : kMethods) {
-        if (e.name != name) continue;
-        NearestScope env;  // what make builds (λ, octrees) is computed in the library's environment
-        RayFunction fn = e.make(tape, options);
-        // Each ray in the library's floating-point environment, whatever the calling thread's.
-        return [fn = std::move(fn)](const Ray& ray) {
-            NearestScope ray_env;
-            return fn(ray);
-        };
-    }
-    std::string list;
-    for (const Entry& e : kMethods) list += (list.empty() ? "" : ", ") + std::string(e.name);
-    throw std::invalid_argument("unknown method '" + std::string(name) +
-                                "'; available methods: " + list);
+    const Entry& e = entry(name);
+    NearestScope env;  // what make builds (λ, octrees) is computed in the library's environment
+    RayFunction fn = e.make(tape, options);
+    // Each ray in the library's floating-point environment, whatever the calling thread's.
+    return [fn = std::move(fn)](const Ray& ray) {
+        NearestScope ray_env;
+        return fn(ray);
+    };
 }
 
 }  // namespace certray::tracers

@@ -3,9 +3,12 @@
 // Contract: make_method(name, tape, options) returns a function that answers one ray with the
 // named method (solvers/ray.h semantics: certified methods prove what they claim; approximate
 // methods use the same result type and are measured against the certified one). The function is
-// thread-safe (each thread keeps its own scratch space) and reads `tape`, which must outlive it.
-// Work done once per scene (a global Lipschitz bound, an octree) is done by make_method. This is
-// the one place where `--method` names become calls, shared by `certray query` and `render`.
+// thread-safe (each thread keeps its own scratch space) and reads `tape`, which must outlive it
+// (the public API, api/scene.h, owns both). The registry is data: each method's name, whether it is
+// certified, the knobs it reads and its sweep in the study (MethodInfo); the CLI's options,
+// `certray methods`, the bench and the Python module are made from it. Work done once per scene (a
+// global Lipschitz bound, an octree) is done by make_method. This is the one place where `--method`
+// names become calls, shared by `certray query` and `render`.
 #pragma once
 
 #include <array>
@@ -14,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "expr/tape.h"
@@ -22,7 +26,8 @@
 
 namespace certray::tracers {
 
-/// The knobs of every method; each method reads the ones it documents and ignores the rest.
+/// The knobs of every method, with their defaults; which method reads which is in its
+/// MethodInfo, and resolve_knobs refuses the others.
 struct MethodOptions {
     /// Most whole-tape evaluations per ray before answering unknown (certified, and a cap on the
     /// steps of every iterative method).
@@ -45,14 +50,74 @@ struct MethodOptions {
 /// One ray in, one answer out; thread-safe.
 using RayFunction = std::function<RayResult(const Ray&)>;
 
+/// How a knob's value is read: a count ≥ 1, an integer, a real, or the bounds cube [lo, hi]³.
+enum class KnobKind : std::uint8_t { Count, Integer, Real, Bounds };
+
+/// One knob of the methods: its name (the CLI's `--name`, Python's keyword), what it means, the
+/// values it accepts, and where it lives in MethodOptions (whose initialisers are the defaults,
+/// written once).
+struct Knob {
+    std::string_view name;
+    KnobKind kind;
+    std::string_view help;
+    double min;  ///< least accepted value (inclusive)
+    double max;  ///< greatest accepted value (inclusive)
+    double (*get)(const MethodOptions&);
+    void (*set)(MethodOptions&, double);
+};
+
+/// Every knob, in the order `--help` lists them (bounds last; its value is set as a pair).
+const std::vector<Knob>& knobs();
+
+/// A knob's values in the error-against-run-time study (certray bench).
+struct Sweep {
+    std::string_view knob;
+    std::vector<double> values;
+};
+
+/// What the registry knows of a method.
+struct MethodInfo {
+    std::string_view name;
+    /// True when every hit and miss is proven (solvers/ray.h); false for approximations, which
+    /// are measured against the certified methods, never trusted.
+    bool certified;
+    std::string_view summary;
+    /// The knobs the method reads; setting any other is an error.
+    std::vector<std::string_view> knobs;
+    /// Its sweep in the study (first knob first); empty: the defaults only.
+    std::vector<Sweep> sweep;
+};
+
+/// Every method, in the order `--help` lists them.
+const std::vector<MethodInfo>& method_infos();
+
+/// The method named `name`; throws std::invalid_argument naming the available ones.
+const MethodInfo& method_info(std::string_view name);
+
 /// The names make_method accepts, in the order `--help` lists them.
 std::vector<std::string> method_names();
 
-/// One line per method: "name: what it does (certified|approximate)".
+/// The methods as text: per method its name, certified or approximate, what it does, and its
+/// knobs with their defaults.
 std::string describe_methods();
 
-/// The per-ray function of method `name` on `tape`. Throws std::invalid_argument naming the
-/// available methods when `name` is unknown.
+/// Knob values as a user gives them, by name (the CLI's options that were set, Python's keyword
+/// arguments); the bounds as the pair "bounds" = {lo, hi}.
+struct KnobValues {
+    std::vector<std::pair<std::string, double>> values;
+    std::optional<std::array<double, 2>> bounds;
+};
+
+/// The options of method `name` with `given` applied over the defaults. Throws
+/// std::invalid_argument for an unknown method, an unknown knob, a knob the method does not read
+/// ("method 'sphere' does not read 'samples'; its knobs: epsilon, budget, bounds"), a value out of
+/// range or not an integer where one is needed, or bounds that are not finite with lo < hi.
+MethodOptions resolve_knobs(std::string_view name, const KnobValues& given);
+
+/// The per-ray function of method `name` on `tape`, which must outlive it. Throws
+/// std::invalid_argument naming the available methods when `name` is unknown, and when the
+/// method does not apply to the scene. Every call runs in the library's floating-point
+/// environment (NearestScope), whatever the calling thread's.
 RayFunction make_method(std::string_view name, const expr::Tape& tape,
                         const MethodOptions& options);
 
