@@ -129,9 +129,16 @@ const CLI::Option* option_cited(const CLI::App& app, const std::string& message)
 }  // namespace
 
 bool unknown_command(const CLI::App& app, int argc, char** argv) {
-    if (argc < 2 || argv[1][0] == '-' || subcommand_of(app, argc, argv) != nullptr) return false;
-    std::cerr << "certray: unknown command '" << argv[1] << "'; commands: " << command_list(app)
-              << "\n";
+    if (argc < 2 || subcommand_of(app, argc, argv) != nullptr) return false;
+    const std::string arg = argv[1];
+    if (arg.empty() || arg[0] != '-') {
+        std::cerr << "certray: unknown command '" << arg << "'; commands: " << command_list(app)
+                  << "\n";
+        return true;
+    }
+    if (app.get_option_no_throw(arg.substr(0, arg.find('='))) != nullptr) return false;
+    std::cerr << "certray: unknown option '" << arg
+              << "'; options: --help, --version; commands: " << command_list(app) << "\n";
     return true;
 }
 
@@ -216,8 +223,9 @@ int run_guarded(const std::function<int()>& body) {
         std::cerr << "certray: error: " << e.what() << "\n";
         return kExitInput;
     } catch (const std::runtime_error& e) {
-        std::cerr << "certray: error: " << e.what() << "\n";
-        return io_message(e.what()) ? kExitIo : kExitInternal;
+        const bool io = io_message(e.what());
+        std::cerr << (io ? "certray: error: " : "certray: internal error: ") << e.what() << "\n";
+        return io ? kExitIo : kExitInternal;
     } catch (const std::exception& e) {
         std::cerr << "certray: internal error: " << e.what() << "\n";
         return kExitInternal;

@@ -25,7 +25,7 @@ enum ExitCode : int {
 };
 
 /// When argv[1] is neither an option nor a subcommand of `app`, prints "certray: unknown command
-/// 'X'; commands: …" on stderr and returns true.
+/// 'X'; commands: …" (or "unknown option '-X'") on stderr and returns true.
 bool unknown_command(const CLI::App& app, int argc, char** argv);
 
 /// Handles a parse error of `app` (the top-level app): help and version are printed on stdout and

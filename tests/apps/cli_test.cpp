@@ -1,12 +1,16 @@
 // tests/apps/cli_test.cpp — the `certray` command line as a whole: each exit code of
 // apps/cli_errors.h with its message, --version, an unknown command, and one --bounds syntax
-// (LO HI or LO,HI) in inspect, query and render.
+// (LO HI or LO,HI) in inspect, query and render; and apps::run_guarded's mapping of exceptions to
+// exit codes, the internal error (4) included, which no input reaches.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 
+#include "apps/cli_errors.h"
+#include "expr/input_error.h"
 #include "tests/support/cli_fixture.h"
 
 namespace {
@@ -52,6 +56,11 @@ TEST_F(Cli, UnknownOrMissingCommandIsUsage) {
     EXPECT_EQ(err_,
               "certray: unknown command 'frob'; commands: inspect, query, methods, render, "
               "bench\n");
+    EXPECT_EQ(run("--frob"), 2);
+    EXPECT_TRUE(
+        err_has("certray: unknown option '--frob'; options: --help, --version; commands: "
+                "inspect, query"))
+        << err_;
     EXPECT_EQ(run(""), 2);
     EXPECT_TRUE(err_has("certray: a command is required")) << err_;
 }
@@ -131,6 +140,21 @@ TEST_F(Cli, BoundsSyntaxIsTheSameEverywhere) {
         EXPECT_NE(out_.find("--bounds LO HI "), std::string::npos) << out_;
         EXPECT_EQ(out_.find("[FLOAT,FLOAT]"), std::string::npos) << out_;
     }
+}
+
+TEST(RunGuarded, MapsExceptionsToExitCodes) {
+    using certray::apps::run_guarded;
+    EXPECT_EQ(run_guarded([] { return 0; }), 0);
+    EXPECT_EQ(run_guarded([] { return 2; }), 2);
+    EXPECT_EQ(run_guarded([]() -> int { throw certray::InputError("f.expr", 3, 4, "bad"); }), 1);
+    EXPECT_EQ(run_guarded([]() -> int { throw std::invalid_argument("does not apply"); }), 1);
+    EXPECT_EQ(
+        run_guarded([]() -> int { throw certray::InputError("f.expr", 0, 0, "cannot open file"); }),
+        3);
+    EXPECT_EQ(run_guarded([]() -> int { throw std::runtime_error("cannot write 'x': full"); }), 3);
+    EXPECT_EQ(run_guarded([]() -> int { throw std::runtime_error("something else"); }), 4);
+    EXPECT_EQ(run_guarded([]() -> int { throw std::logic_error("a bug"); }), 4);
+    EXPECT_EQ(run_guarded([]() -> int { throw 42; }), 4);
 }
 
 TEST_F(Cli, InspectDefaultBoundsMatchRender) {
