@@ -191,6 +191,15 @@ int render_2d_scene(const RenderCliOptions& o, const expr::Tape& tape, const Sce
                      "pixel centre\n";
         return 2;
     }
+    std::string keys;
+    if (spec.method) keys += ", \"method\"";
+    if (spec.camera) keys += ", \"camera\"";
+    if (spec.light) keys += ", \"light\"";
+    if (!keys.empty()) {
+        fail(o.scene, keys.substr(2) +
+                          " apply to 3D scenes only; this scene is 2D (it reads x and y "
+                          "only), drawn as the sign of f at each pixel centre");
+    }
     tracers::Image2dOptions io;
     if (o.bounds.size() == 2) {
         io.x = io.y = {o.bounds[0], o.bounds[1]};

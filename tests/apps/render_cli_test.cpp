@@ -105,6 +105,18 @@ TEST_F(RenderCli, ThreeDOptionsOnA2dSceneAreAnError) {
     }
 }
 
+TEST_F(RenderCli, ThreeDKeysOfAJsonSceneOnA2dSceneAreAnInputError) {
+    write("disk.json", R"({"scene": "disk.expr", "method": "sphere", "light": [0, 0, 1]})");
+    EXPECT_EQ(run("render disk.json -o d.png --size 8x8"), 1);
+    EXPECT_NE(err_.find("disk.json: \"method\", \"light\" apply to 3D scenes only; this scene "
+                        "is 2D"),
+              std::string::npos)
+        << err_;
+    EXPECT_FALSE(fs::exists(path("d.png")));
+    write("disk2.json", R"({"scene": "disk.expr", "size": [16, 8]})");
+    EXPECT_EQ(run("render disk2.json -o d.png"), 0) << err_;
+}
+
 TEST_F(RenderCli, OnlyPngIsWritten) {
     EXPECT_EQ(run("render sphere.expr -o x.jpg --size 8x8"), 2);
     EXPECT_EQ(err_, "certray render: cannot write 'x.jpg': only .png is supported\n");
