@@ -11,26 +11,46 @@
 #include <vector>
 
 #include "apps/bench.h"
+#include "apps/cli_errors.h"
 #include "apps/inspect.h"
 #include "apps/query.h"
 #include "apps/render.h"
 #include "expr/input_error.h"
 #include "tracers/methods.h"
 
+#ifndef CERTRAY_VERSION
+#define CERTRAY_VERSION "unknown"
+#endif
+
 int main(int argc, char** argv) {
+    using namespace certray::apps;  // the exit codes
     CLI::App app{"certray: certified ray–implicit-surface queries on interval arithmetic"};
     app.require_subcommand(1);
+    app.set_version_flag("--version", std::string("certray ") + CERTRAY_VERSION,
+                         "Print the version (certray X.Y.Z) and exit");
+    // Every scene reader of expr/load.h, named once for the help texts.
+    const std::string scene_formats =
+        ".expr, .vm (Fidget), .txt (particles) or .json (Lipschitz-Pruning CSG tree)";
 
     std::vector<std::string> scenes;
     certray::apps::InspectOptions inspect;
     CLI::App* cmd_inspect = app.add_subcommand(
         "inspect",
-        "Report on scenes (.expr or .vm): tape size, interval enclosure and Lipschitz bound over "
-        "the bounds, evaluation speed, and how far interval pruning shortens the tape per level");
-    cmd_inspect->add_option("scenes", scenes, "Scene files (.expr or .vm)")->required();
-    cmd_inspect->add_option("--bounds", inspect.bounds,
-                            "The cube [lo, hi]^3 to inspect over (two numbers)");
+        "Report on scenes (" + scene_formats +
+            "): tape size, interval enclosure and Lipschitz bound over the bounds, evaluation "
+            "speed, and how far interval pruning shortens the tape per level");
+    cmd_inspect->add_option("scenes", scenes, "Scene files: " + scene_formats)->required();
+    std::vector<double> inspect_bounds;
+    cmd_inspect
+        ->add_option("--bounds", inspect_bounds,
+                     "LO HI (or LO,HI): inspect over the cube [LO, HI]^3, or the square [LO, HI]^2 "
+                     "for a 2D scene (default [-2, 2]^3 in 3D, [-1, 1]^2 in 2D, as render)")
+        ->type_size(2)
+        ->expected(1)
+        ->delimiter(',')
+        ->type_name("LO HI");
     cmd_inspect->add_option("--levels", inspect.levels, "Subdivision levels of the pruning table")
+        ->capture_default_str()
         ->check(CLI::Range(0, 8));
 
     certray::apps::QueryOptions query;
@@ -104,28 +124,31 @@ int main(int argc, char** argv) {
     certray::apps::RenderCliOptions render;
     CLI::App* cmd_render = app.add_subcommand(
         "render",
-        "Write a PNG image of SCENE. An .expr/.vm scene that reads z is 3D: auto-framed inside the "
-        "bounds, one ray per pixel answered by --method. One that does not read z is 2D: each "
-        "pixel "
-        "the sign of f evaluated in double at its centre (as by brute force), computed by an "
-        "interval quadtree (--method and --aov do not apply). "
-        "A .json scene gives {scene, bounds, camera{eye,target,up,fov}, light, method, size}. "
-        "Prints pixel counts (2D: inside, undefined; 3D: hit, miss, unknown and evaluations)");
-    cmd_render->add_option("scene", render.scene, "Scene file (.expr, .vm or .json)")->required();
+        "Write a PNG image of SCENE (" + scene_formats +
+            ", or a render .json). A scene that reads z is 3D: auto-framed inside the bounds, one "
+            "ray per pixel answered by --method. One that does not read z is 2D: each pixel the "
+            "sign of f evaluated in double at its centre (as by brute force), computed by an "
+            "interval quadtree, with square pixels (bounds widened to the image's aspect); the 3D "
+            "options --method, --aov, --budget, --epsilon are an error there. A render .json "
+            "gives {scene, bounds, camera{eye,target,up,fov}, light, method, size}. Prints pixel "
+            "counts (2D: inside, undefined; 3D: hit, miss, unknown and evaluations)");
+    cmd_render
+        ->add_option("scene", render.scene, "Scene file: " + scene_formats + ", or a render .json")
+        ->required();
     cmd_render->add_option("-o,--out", render.out, "PNG to write (via OUT.tmp, then renamed)")
         ->required();
     cmd_render->add_option(
         "--method", render.method,
         "Ray method for 3D scenes (default certified); available: " + method_list);
     cmd_render->add_option("--size", render.size,
-                           "Image size WxH, 1 to 16384 each (default 640x480 in 3D, 1024x1024 "
-                           "in 2D)");
-    cmd_render
-        ->add_option("--aov", render.aov,
-                     "3D picture: shade (Lambert; miss = background, unknown = magenta), depth, "
-                     "steps (evaluations per pixel, log colour ramp), normal, status (hit white, "
-                     "miss blue, unknown magenta)")
-        ->capture_default_str();
+                           "Image size WxH, 1 to 16384 each (default 640x480 in 3D; in 2D 1024 "
+                           "on the longer side of the bounds)");
+    cmd_render->add_option("--aov", render.aov,
+                           "3D picture: shade (default; Lambert, miss = background, unknown = "
+                           "magenta), depth, steps (evaluations per pixel, log colour ramp), "
+                           "normal, status (hit white, miss blue, unknown magenta)");
+    cmd_render->add_flag("-q,--quiet", render.quiet,
+                         "No progress and no notes on stderr (errors are still printed)");
     cmd_render
         ->add_option("--bounds", render.bounds,
                      "Scene bounds: the cube [lo, hi]^3 (2D: the square [lo, hi]^2); "
@@ -187,23 +210,27 @@ int main(int argc, char** argv) {
     cmd_bench->add_flag("--no-progress", bench_no_progress, "No progress bar");
     // ---- end bench ---------------------------------------------------------------------------
 
-    CLI11_PARSE(app, argc, argv);
+    // One --bounds syntax everywhere: LO HI, or LO,HI.
+    for (CLI::App* c : {cmd_query, cmd_render}) {
+        c->get_option("--bounds")->delimiter(',')->type_size(2)->expected(1)->type_name("LO HI");
+    }
+
+    if (unknown_command(app, argc, argv)) return kExitUsage;
     try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return report_parse_error(app, e, argc, argv);
+    }
+    return run_guarded([&]() -> int {
         if (cmd_inspect->parsed()) {
-            if (!(inspect.bounds[0] < inspect.bounds[1])) {
-                std::cerr << "certray inspect: --bounds needs lo < hi\n";
-                return 2;
-            }
+            if (!check_bounds("inspect", inspect_bounds)) return kExitUsage;
+            if (!inspect_bounds.empty()) inspect.bounds = {inspect_bounds[0], inspect_bounds[1]};
             for (const std::string& s : scenes) certray::apps::inspect_scene(s, inspect, std::cout);
         }
         if (cmd_methods->parsed()) std::cout << certray::tracers::describe_methods();
         if (cmd_query->parsed()) {
+            if (!check_bounds("query", query_bounds)) return kExitUsage;
             if (!query_bounds.empty()) {
-                if (!(query_bounds[0] < query_bounds[1]) || !std::isfinite(query_bounds[0]) ||
-                    !std::isfinite(query_bounds[1])) {
-                    std::cerr << "certray query: --bounds needs finite lo < hi\n";
-                    return 2;
-                }
                 const certray::Interval b(query_bounds[0], query_bounds[1]);
                 query.knobs.bounds = std::array<certray::Interval, 3>{b, b, b};
             }
@@ -215,13 +242,10 @@ int main(int argc, char** argv) {
             bench.progress = bench_no_progress ? 0 : (bench_progress ? 1 : -1);
             return certray::apps::run_bench(bench);
         }
-        if (cmd_render->parsed()) return certray::apps::run_render(render, std::cout);
-    } catch (const certray::InputError& e) {
-        std::cerr << "certray: " << e.what() << "\n";
-        return 1;
-    } catch (const std::exception& e) {
-        std::cerr << "certray: error: " << e.what() << "\n";
-        return 1;
-    }
-    return 0;
+        if (cmd_render->parsed()) {
+            if (!check_bounds("render", render.bounds)) return kExitUsage;
+            return certray::apps::run_render(render, std::cout);
+        }
+        return kExitOk;
+    });
 }

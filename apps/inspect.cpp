@@ -29,7 +29,9 @@ void inspect_scene(const std::string& path, const InspectOptions& options, std::
     const expr::Graph graph = expr::load_graph_file(path);
     const Tape tape(graph);
     const bool is3d = tape.uses_var(2);
-    const double lo = options.bounds[0], hi = options.bounds[1];
+    const std::array<double, 2> bounds =
+        options.bounds.value_or(is3d ? std::array{-2.0, 2.0} : std::array{-1.0, 1.0});
+    const double lo = bounds[0], hi = bounds[1];
     const Interval side(lo, hi);
     const std::array<Interval, 3> box{side, side, is3d ? side : Interval(0.0)};
 

@@ -2,14 +2,17 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <ostream>
 #include <string>
 
 namespace certray::apps {
 
 struct InspectOptions {
-    std::array<double, 2> bounds{-2.0, 2.0};  ///< the cube [lo, hi]³ (square for 2D scenes)
-    int levels = 5;                           ///< subdivision levels for the pruning table
+    /// {lo, hi}: the cube [lo, hi]³ (the square [lo, hi]² for 2D scenes); unset: [−2, 2]³ for a 3D
+    /// scene, [−1, 1]² for a 2D one (as `certray render`).
+    std::optional<std::array<double, 2>> bounds;
+    int levels = 5;  ///< subdivision levels for the pruning table
 };
 
 /// Prints the report for one scene file to `out`. Throws certray::InputError on bad input.

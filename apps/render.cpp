@@ -2,7 +2,9 @@
 #include "apps/render.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -10,6 +12,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "apps/progress.h"
 #include "expr/input_error.h"
 #include "expr/load.h"
 #include "expr/parser.h"
@@ -134,8 +137,69 @@ std::string method_list() {
     return list;
 }
 
+/// The 2D image size and bounds with square pixels: without a size, the longer side of the bounds
+/// gets kDefault2dSide pixels and the other side its share; with a size whose aspect differs from
+/// the bounds', the bounds are widened about their centre on the axis that is too short.
+void fit_2d_aspect(tracers::Image2dOptions& io, std::optional<std::pair<unsigned, unsigned>> size,
+                   bool quiet) {
+    constexpr unsigned kDefault2dSide = 1024;
+    const double bw = io.x[1] - io.x[0], bh = io.y[1] - io.y[0];
+    if (!size) {
+        const double r = bw / bh;
+        io.width =
+            r >= 1 ? kDefault2dSide
+                   : std::clamp<unsigned>(static_cast<unsigned>(std::lround(kDefault2dSide * r)), 1,
+                                          kMaxImageSide);
+        io.height =
+            r >= 1 ? std::clamp<unsigned>(static_cast<unsigned>(std::lround(kDefault2dSide / r)), 1,
+                                          kMaxImageSide)
+                   : kDefault2dSide;
+        return;
+    }
+    io.width = size->first;
+    io.height = size->second;
+    const double px = bw / io.width, py = bh / io.height;  // pixel width and height
+    if (std::abs(px - py) <= 1e-12 * std::max(px, py)) return;
+    const std::array<double, 2> x0 = io.x, y0 = io.y;
+    if (px < py) {
+        const double c = 0.5 * (io.x[0] + io.x[1]), half = 0.5 * py * io.width;
+        io.x = {c - half, c + half};
+    } else {
+        const double c = 0.5 * (io.y[0] + io.y[1]), half = 0.5 * px * io.height;
+        io.y = {c - half, c + half};
+    }
+    if (!quiet) {
+        std::cerr << "certray render: the bounds [" << x0[0] << ", " << x0[1] << "] x [" << y0[0]
+                  << ", " << y0[1] << "] widened to [" << io.x[0] << ", " << io.x[1] << "] x ["
+                  << io.y[0] << ", " << io.y[1] << "] so that the " << io.width << "x" << io.height
+                  << " pixels are square\n";
+    }
+}
+
 int render_2d_scene(const RenderCliOptions& o, const expr::Tape& tape, const SceneSpec& spec,
                     std::optional<std::pair<unsigned, unsigned>> size, std::ostream& out) {
+    std::string given;
+    if (o.method) given += ", --method";
+    if (o.aov) given += ", --aov";
+    if (o.budget) given += ", --budget";
+    if (o.epsilon) given += ", --epsilon";
+    if (!given.empty()) {
+        const bool one = given.find(',', 1) == std::string::npos;
+        std::cerr << "certray render: " << given.substr(2)
+                  << (one ? " is a 3D option" : " are 3D options") << ", but '" << o.scene
+                  << "' is a 2D scene (it reads x and y only), drawn as the sign of f at each "
+                     "pixel centre\n";
+        return 2;
+    }
+    std::string keys;
+    if (spec.method) keys += ", \"method\"";
+    if (spec.camera) keys += ", \"camera\"";
+    if (spec.light) keys += ", \"light\"";
+    if (!keys.empty()) {
+        fail(o.scene, keys.substr(2) +
+                          " apply to 3D scenes only; this scene is 2D (it reads x and y "
+                          "only), drawn as the sign of f at each pixel centre");
+    }
     tracers::Image2dOptions io;
     if (o.bounds.size() == 2) {
         io.x = io.y = {o.bounds[0], o.bounds[1]};
@@ -143,10 +207,13 @@ int render_2d_scene(const RenderCliOptions& o, const expr::Tape& tape, const Sce
         io.x = (*spec.bounds)[0];
         io.y = (*spec.bounds)[1];
     }
-    io.width = size ? size->first : 1024;
-    io.height = size ? size->second : 1024;
+    fit_2d_aspect(io, size, o.quiet);
     io.threads = o.threads;
+    tracers::WorkProgress work;
+    io.progress = &work;
+    ProgressReport report("certray render", work, progress_mode_for_stderr(o.quiet));
     const tracers::Image2d img = tracers::render_2d(tape, io);
+    report.finish();
     tracers::RgbImage rgb(img.width, img.height);
     for (unsigned j = 0; j < img.height; ++j) {
         for (unsigned i = 0; i < img.width; ++i) {
@@ -191,6 +258,13 @@ bool parse_size(const std::string& text, unsigned& width, unsigned& height, std:
 }
 
 int run_render(const RenderCliOptions& o, std::ostream& out) {
+    std::string ext = fs::path(o.out).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext != ".png") {
+        std::cerr << "certray render: cannot write '" << o.out << "': only .png is supported\n";
+        return 2;
+    }
     std::optional<std::pair<unsigned, unsigned>> size;
     if (o.size) {
         unsigned w = 0, h = 0;
@@ -202,8 +276,9 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
         size = std::pair{w, h};
     }
     tracers::Aov aov;
-    if (!tracers::parse_aov(o.aov, aov)) {
-        std::cerr << "certray render: unknown --aov '" << o.aov
+    const std::string aov_name = o.aov.value_or("shade");
+    if (!tracers::parse_aov(aov_name, aov)) {
+        std::cerr << "certray render: unknown --aov '" << aov_name
                   << "'; expected shade, depth, steps, normal or status\n";
         return 2;
     }
@@ -242,7 +317,8 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
     ro.height = size ? size->second : 480;
     ro.aov = aov;
     ro.threads = o.threads;
-    ro.progress = true;
+    tracers::WorkProgress work;
+    ro.progress = &work;
     if (spec.light) ro.light = *spec.light;
     const double aspect = static_cast<double>(ro.width) / ro.height;
     const double fov = spec.camera && spec.camera->contains("fov")
@@ -268,16 +344,18 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
                                         Interval(ro.bounds[1][0], ro.bounds[1][1]),
                                         Interval(ro.bounds[2][0], ro.bounds[2][1])};
     const tracers::RayFunction fn = tracers::make_method(method, tape, mo);
+    ProgressReport report("certray render", work, progress_mode_for_stderr(o.quiet));
     const tracers::RenderResult r = tracers::render_3d(tape, fn, ro);
+    report.finish();
     tracers::write_png(o.out, r.image);
     const unsigned threads =
         o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
-    out << "3D scene " << ro.width << "x" << ro.height << ", method " << method << ", aov " << o.aov
-        << ": hit " << r.stats.hit << ", miss " << r.stats.miss << ", unknown " << r.stats.unknown
-        << " pixels; evaluations " << r.stats.evals.total() << " (value " << r.stats.evals.value
-        << ", interval " << r.stats.evals.interval << ", gradient " << r.stats.evals.gradient
-        << "; max per pixel " << r.stats.max_pixel_evals << "); " << r.stats.seconds << " s on "
-        << threads << " threads\n";
+    out << "3D scene " << ro.width << "x" << ro.height << ", method " << method << ", aov "
+        << aov_name << ": hit " << r.stats.hit << ", miss " << r.stats.miss << ", unknown "
+        << r.stats.unknown << " pixels; evaluations " << r.stats.evals.total() << " (value "
+        << r.stats.evals.value << ", interval " << r.stats.evals.interval << ", gradient "
+        << r.stats.evals.gradient << "; max per pixel " << r.stats.max_pixel_evals << "); "
+        << r.stats.seconds << " s on " << threads << " threads\n";
     return 0;
 }
 

@@ -266,6 +266,7 @@ Image2d render_2d(const expr::Tape& tape, const Image2dOptions& options) {
         options.threads > 0 ? options.threads : std::thread::hardware_concurrency(), 1,
         static_cast<unsigned>(std::min<std::size_t>(tiles, 256)));
     TaskQueue queue(tiles, threads);
+    if (options.progress) options.progress->total.store(tiles, std::memory_order_relaxed);
     std::atomic<std::uint64_t> filled{0}, batches{0}, inside{0}, undefined{0};
     std::mutex mutex;
     std::exception_ptr error;
@@ -280,16 +281,18 @@ Image2d render_2d(const expr::Tape& tape, const Image2dOptions& options) {
             while (queue.next(k, t)) {
                 if (options.use_quadtree) {
                     pyramid.run(t, walker, scratch->path);
-                    continue;
-                }
-                // The brute force: every pixel centre, in row pieces of at most kBatch.
-                const Rect r = pyramid.rect(t);
-                for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
-                    for (unsigned i = r.i0; i < r.i0 + r.w; i += kBatch) {
-                        walker.leaf_full(tape,
-                                         {i, j, std::min<unsigned>(kBatch, r.i0 + r.w - i), 1});
+                } else {
+                    // The brute force: every pixel centre, in row pieces of at most kBatch.
+                    const Rect r = pyramid.rect(t);
+                    for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
+                        for (unsigned i = r.i0; i < r.i0 + r.w; i += kBatch) {
+                            walker.leaf_full(tape,
+                                             {i, j, std::min<unsigned>(kBatch, r.i0 + r.w - i), 1});
+                        }
                     }
                 }
+                if (options.progress)
+                    options.progress->done.fetch_add(1, std::memory_order_relaxed);
             }
             filled += walker.tiles_filled;
             batches += walker.leaf_batches;

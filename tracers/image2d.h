@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "expr/tape.h"
+#include "tracers/progress.h"
 
 namespace certray::tracers {
 
@@ -38,6 +39,7 @@ struct Image2dOptions {
     unsigned threads = 0;     ///< worker threads; 0: one per hardware thread
     unsigned root_tile = 64;  ///< side of the tiles handed to threads (≥ 8; a power of two is best)
     bool use_quadtree = true;  ///< false: evaluate every pixel centre (the brute force, batched)
+    WorkProgress* progress = nullptr;  ///< when set, advanced tile by tile (tracers/progress.h)
 };
 
 /// The classified pixels (row-major, top row first) and their counts.

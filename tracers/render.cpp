@@ -1,14 +1,10 @@
 // tracers/render.cpp — the 3D tile loop and the AOV colourings (see render.h).
 #include "tracers/render.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
-#include <cstdio>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -156,10 +152,8 @@ RenderResult render_3d(const expr::Tape& tape, const RayFunction& method,
     const unsigned tiles_x = (ans.width + kTile - 1) / kTile;
     const unsigned tiles_y = (ans.height + kTile - 1) / kTile;
     const std::size_t tiles = std::size_t{tiles_x} * tiles_y;
-    std::atomic<std::size_t> next{0}, done{0};
+    std::atomic<std::size_t> next{0};
     std::mutex mutex;
-    std::condition_variable finished_cv;
-    unsigned finished = 0;
     std::exception_ptr error;
     std::vector<EvalCounts> sums;
 
@@ -193,44 +187,26 @@ RenderResult render_3d(const expr::Tape& tape, const RayFunction& method,
                                          static_cast<float>(n[2])};
                     }
                 }
-                done.fetch_add(1, std::memory_order_relaxed);
+                if (options.progress)
+                    options.progress->done.fetch_add(1, std::memory_order_relaxed);
             }
         } catch (...) {
             std::lock_guard lock(mutex);
             if (!error) error = std::current_exception();
             next.store(tiles);
         }
-        std::lock_guard lock(mutex);
-        ++finished;
-        finished_cv.notify_all();
     };
 
     const unsigned workers = static_cast<unsigned>(std::clamp<std::size_t>(
         options.threads > 0 ? options.threads : std::thread::hardware_concurrency(), 1,
         std::max<std::size_t>(tiles, 1)));
     sums.resize(workers);
+    if (options.progress) options.progress->total.store(tiles, std::memory_order_relaxed);
     std::vector<std::thread> pool;
     pool.reserve(workers);
     for (unsigned w = 0; w < workers; ++w) pool.emplace_back(worker, std::ref(sums[w]));
 
-    const bool bar = options.progress && isatty(STDERR_FILENO) != 0;
-    {
-        std::unique_lock lock(mutex);
-        while (!finished_cv.wait_for(lock, std::chrono::milliseconds(200),
-                                     [&] { return finished == workers; })) {
-            if (!bar) continue;
-            const std::size_t d = done.load(std::memory_order_relaxed);
-            const int filled = static_cast<int>(40 * d / std::max<std::size_t>(tiles, 1));
-            std::fprintf(stderr, "\rcertray render [%-40.*s] %zu/%zu tiles", filled,
-                         "########################################", d, tiles);
-            std::fflush(stderr);
-        }
-    }
     for (std::thread& th : pool) th.join();
-    if (bar) {
-        std::fprintf(stderr, "\rcertray render [%s] %zu/%zu tiles\n",
-                     "########################################", tiles, tiles);
-    }
     if (error) std::rethrow_exception(error);
 
     RenderStats& st = result.stats;

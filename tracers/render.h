@@ -22,6 +22,7 @@
 #include "tracers/camera.h"
 #include "tracers/methods.h"
 #include "tracers/png_io.h"
+#include "tracers/progress.h"
 
 namespace certray::tracers {
 
@@ -39,8 +40,8 @@ struct RenderOptions {
     Box3 bounds{{{-2, 2}, {-2, 2}, {-2, 2}}};
     Vec3 light{-0.4, -0.9, 1.2};  ///< direction towards the light (normalised when used)
     Aov aov = Aov::Shade;
-    unsigned threads = 0;   ///< worker threads; 0: one per hardware thread
-    bool progress = false;  ///< draw a progress bar on stderr (when it is a terminal)
+    unsigned threads = 0;              ///< worker threads; 0: one per hardware thread
+    WorkProgress* progress = nullptr;  ///< when set, advanced tile by tile (tracers/progress.h)
 };
 
 /// Per-image totals.

@@ -174,23 +174,23 @@ TEST_F(QueryCli, UnknownMethodExitsTwoAndListsTheMethods) {
     EXPECT_TRUE(outputs_left("rays.csv").empty());
 }
 
-TEST_F(QueryCli, MissingInputsAndUnwritableOutputsFail) {
+TEST_F(QueryCli, MissingInputsAndUnwritableOutputsFail) {  // exit 3: I/O errors
     write("rays.csv", std::string(kHeader) + "0,0,-3,0,0,1,0,10\n");
-    EXPECT_EQ(run("query missing.expr --rays rays.csv --method certified --out hits.csv"), 1);
+    EXPECT_EQ(run("query missing.expr --rays rays.csv --method certified --out hits.csv"), 3);
     EXPECT_NE(err_.find("missing.expr"), std::string::npos) << err_;
-    EXPECT_EQ(run("query sphere.expr --rays missing.csv --method certified --out hits.csv"), 1);
+    EXPECT_EQ(run("query sphere.expr --rays missing.csv --method certified --out hits.csv"), 3);
     EXPECT_NE(err_.find("missing.csv"), std::string::npos) << err_;
     EXPECT_EQ(run("query sphere.expr --rays rays.csv --method certified --out no/such/hits.csv"),
-              1);
+              3);
     EXPECT_NE(err_.find("no/such/hits.csv"), std::string::npos) << err_;
     // The stats file cannot be written: the hits file must not be left behind either.
     EXPECT_EQ(run("query sphere.expr --rays rays.csv --method certified --out hits.csv "
                   "--stats no/such/stats.json"),
-              1);
+              3);
     EXPECT_TRUE(outputs_left("rays.csv").empty());
     // The output path is a directory: the rename fails and the temporary file is removed.
     fs::create_directory(path("outdir"));
-    EXPECT_EQ(run("query sphere.expr --rays rays.csv --method certified --out outdir"), 1);
+    EXPECT_EQ(run("query sphere.expr --rays rays.csv --method certified --out outdir"), 3);
     EXPECT_EQ(outputs_left("rays.csv"), std::vector<std::string>{"outdir"});
 }
 

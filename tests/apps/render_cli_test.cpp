@@ -90,9 +90,78 @@ TEST_F(RenderCli, BadOptionsFailAndLeaveNoFile) {
     EXPECT_FALSE(fs::exists(path("no_such_dir")));
 }
 
+TEST_F(RenderCli, ThreeDOptionsOnA2dSceneAreAnError) {
+    EXPECT_EQ(run("render disk.expr -o d.png --size 8x8 --method certified --aov depth"), 2);
+    EXPECT_NE(err_.find("certray render: --method, --aov are 3D options, but 'disk.expr' is a 2D "
+                        "scene (it reads x and y only), drawn as the sign of f"),
+              std::string::npos)
+        << err_;
+    EXPECT_FALSE(fs::exists(path("d.png")));
+    for (const char* opt : {"--method certified", "--aov shade", "--budget 10", "--epsilon 0.1"}) {
+        EXPECT_EQ(run(std::string("render disk.expr -o d.png --size 8x8 ") + opt), 2) << opt;
+        const std::string name = std::string(opt).substr(0, std::string(opt).find(' '));
+        EXPECT_NE(err_.find(name + " is a 3D option"), std::string::npos) << err_;
+        EXPECT_NE(err_.find("2D scene"), std::string::npos) << err_;
+    }
+}
+
+TEST_F(RenderCli, ThreeDKeysOfAJsonSceneOnA2dSceneAreAnInputError) {
+    write("disk.json", R"({"scene": "disk.expr", "method": "sphere", "light": [0, 0, 1]})");
+    EXPECT_EQ(run("render disk.json -o d.png --size 8x8"), 1);
+    EXPECT_NE(err_.find("disk.json: \"method\", \"light\" apply to 3D scenes only; this scene "
+                        "is 2D"),
+              std::string::npos)
+        << err_;
+    EXPECT_FALSE(fs::exists(path("d.png")));
+    write("disk2.json", R"({"scene": "disk.expr", "size": [16, 8]})");
+    EXPECT_EQ(run("render disk2.json -o d.png"), 0) << err_;
+}
+
+TEST_F(RenderCli, OnlyPngIsWritten) {
+    EXPECT_EQ(run("render sphere.expr -o x.jpg --size 8x8"), 2);
+    EXPECT_EQ(err_, "certray render: cannot write 'x.jpg': only .png is supported\n");
+    EXPECT_FALSE(fs::exists(path("x.jpg")));
+    EXPECT_EQ(run("render sphere.expr -o noext --size 8x8"), 2);
+    EXPECT_NE(err_.find("only .png is supported"), std::string::npos) << err_;
+    EXPECT_EQ(run("render sphere.expr -o x.PNG --size 8x8"), 0) << err_;
+    EXPECT_TRUE(fs::exists(path("x.PNG")));
+}
+
+TEST_F(RenderCli, TwoDPixelsAreSquare) {
+    // A square region on a 2:1 image: x widened to [-2, 2], said on stderr (not with --quiet).
+    ASSERT_EQ(run("render disk.expr -o d.png --size 80x40"), 0) << err_;
+    EXPECT_NE(out_.find("80x40 over [-2, 2] x [-1, 1]"), std::string::npos) << out_;
+    EXPECT_NE(err_.find("widened to [-2, 2] x [-1, 1]"), std::string::npos) << err_;
+    ASSERT_EQ(run("render disk.expr -o d.png --size 40x80 --quiet"), 0) << err_;
+    EXPECT_NE(out_.find("40x80 over [-1, 1] x [-2, 2]"), std::string::npos) << out_;
+    EXPECT_TRUE(err_.empty()) << err_;
+    // Without --size, the image takes the aspect of the bounds (a square here).
+    ASSERT_EQ(run("render disk.expr -o d.png"), 0) << err_;
+    EXPECT_NE(out_.find("1024x1024 over [-1, 1] x [-1, 1]"), std::string::npos) << out_;
+}
+
+TEST_F(RenderCli, ProgressLinesWhenStderrIsAFile) {
+    // A run shorter than the threshold (2 s by default) prints no progress at all.
+    ASSERT_EQ(run("render sphere.expr -o s.png --size 16x12"), 0) << err_;
+    EXPECT_TRUE(err_.empty()) << err_;
+    // With the threshold at 0, lines (not a bar: no carriage return) in 3D and 2D.
+    setenv("CERTRAY_PROGRESS_SECONDS", "0", 1);
+    ASSERT_EQ(run("render sphere.expr -o s.png --size 64x48"), 0) << err_;
+    EXPECT_NE(err_.find("certray render: 100% (12 tiles) in "), std::string::npos) << err_;
+    EXPECT_EQ(err_.find('\r'), std::string::npos) << err_;
+    ASSERT_EQ(run("render disk.expr -o d.png --size 64x64"), 0) << err_;
+    EXPECT_NE(err_.find("certray render: 100% ("), std::string::npos) << err_;
+    // --quiet: nothing on stderr; the summary stays on stdout.
+    ASSERT_EQ(run("render sphere.expr -o s.png --size 64x48 --quiet"), 0) << err_;
+    EXPECT_TRUE(err_.empty()) << err_;
+    EXPECT_NE(out_.find("3D scene 64x48"), std::string::npos) << out_;
+    unsetenv("CERTRAY_PROGRESS_SECONDS");
+}
+
 TEST_F(RenderCli, HelpDescribesRender) {
     ASSERT_EQ(run("render --help"), 0);
-    for (const char* word : {"--size", "--aov", "--method", "--bounds", "--threads", "2D"}) {
+    for (const char* word : {"--size", "--aov", "--method", "--bounds LO HI", "--threads", "2D",
+                             "--quiet", ".expr", ".vm", ".txt", ".json", "Lipschitz-Pruning"}) {
         EXPECT_NE(out_.find(word), std::string::npos) << word;
     }
 }
