@@ -7,6 +7,7 @@
 #include <exception>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -62,7 +63,10 @@ int main(int argc, char** argv) {
         "query",
         "Find the first surface crossing f = 0 along each ray of RAYS.csv and write one line per "
         "ray (hit, miss or unknown, with an enclosure [t_lo, t_hi] and a point t) to HITS.csv");
-    cmd_query->add_option("scene", query.scene, "Scene file (.expr or .vm)")->required();
+    cmd_query
+        ->add_option("scene", query.scene,
+                     "Scene file (.expr, .vm, .txt particles, .json CSG tree)")
+        ->required();
     cmd_query
         ->add_option("--rays", query.rays,
                      "Rays to query: CSV with the header ox,oy,oz,dx,dy,dz,tmin,tmax and "
@@ -81,36 +85,39 @@ int main(int argc, char** argv) {
     cmd_query->add_option("--stats", query.stats,
                           "Also write STATS.json: method, rays, solve seconds, threads, "
                           "evaluation counts by kind, per-ray evaluations, status counts");
-    cmd_query
-        ->add_option("--budget", query.budget,
-                     "Most whole-tape evaluations per ray before answering unknown (every "
-                     "method)")
-        ->capture_default_str()
-        ->check(CLI::Range(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max()));
     cmd_query->add_option("--threads", query.threads, "Worker threads (0: one per hardware thread)")
         ->capture_default_str();
-    cmd_query
-        ->add_option("--epsilon", query.knobs.epsilon,
-                     "Convergence distance of the tracers (sphere, enhanced, segment, octree, "
-                     "march refinement)")
-        ->capture_default_str()
-        ->check(CLI::PositiveNumber);
-    cmd_query->add_option("--step", query.knobs.step, "Fixed step of ray marching (march)")
-        ->capture_default_str()
-        ->check(CLI::PositiveNumber);
-    cmd_query
-        ->add_option("--kappa", query.knobs.kappa,
-                     "Over-relaxation of enhanced sphere tracing: steps of (1 + kappa)|f|/lambda")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 1.0));
-    cmd_query->add_option("--samples", query.knobs.samples, "Samples along the ray (hermite)")
-        ->capture_default_str()
-        ->check(CLI::Range(1u, 1000000u));
-    cmd_query
-        ->add_option("--depth", query.knobs.depth,
-                     "Octree depth of certified-octree, octree, approx, approx-plain")
-        ->capture_default_str()
-        ->check(CLI::Range(0, 10));
+    cmd_query->add_flag("-q,--quiet", query.quiet, "No progress on stderr");
+    // The methods' knobs, from the registry (tracers/methods.h): each with its default, and an
+    // error when the chosen method does not read it.
+    std::map<std::string, double> query_real;
+    std::map<std::string, std::int64_t> query_int;
+    std::vector<std::pair<std::string, CLI::Option*>> query_knobs;
+    {
+        const certray::tracers::MethodOptions defaults;
+        for (const certray::tracers::Knob& k : certray::tracers::knobs()) {
+            if (k.kind == certray::tracers::KnobKind::Bounds) continue;
+            const std::string name(k.name);
+            char def[32];
+            std::snprintf(def, sizeof def, "%g", k.get(defaults));
+            const std::string help = std::string(k.help) + " (default " + def + ")";
+            CLI::Option* opt = nullptr;
+            if (k.kind == certray::tracers::KnobKind::Real) {
+                opt = cmd_query->add_option("--" + name, query_real[name], help);
+                // A real with no upper limit and a positive least value: "a positive number".
+                if (k.min > 0 && k.max >= 1e300) {
+                    opt->check(CLI::PositiveNumber);
+                } else {
+                    opt->check(CLI::Range(k.min, k.max));
+                }
+            } else {
+                opt = cmd_query->add_option("--" + name, query_int[name], help);
+                opt->check(
+                    CLI::Range(static_cast<std::int64_t>(k.min), static_cast<std::int64_t>(k.max)));
+            }
+            query_knobs.emplace_back(name, opt);
+        }
+    }
     std::vector<double> query_bounds;
     cmd_query
         ->add_option("--bounds", query_bounds,
@@ -230,9 +237,12 @@ int main(int argc, char** argv) {
         if (cmd_methods->parsed()) std::cout << certray::tracers::describe_methods();
         if (cmd_query->parsed()) {
             if (!check_bounds("query", query_bounds)) return kExitUsage;
-            if (!query_bounds.empty()) {
-                const certray::Interval b(query_bounds[0], query_bounds[1]);
-                query.knobs.bounds = std::array<certray::Interval, 3>{b, b, b};
+            if (!query_bounds.empty()) query.knobs.bounds = {query_bounds[0], query_bounds[1]};
+            for (const auto& [name, opt] : query_knobs) {
+                if (opt->count() == 0) continue;
+                const double v = query_real.count(name) ? query_real[name]
+                                                        : static_cast<double>(query_int[name]);
+                query.knobs.values.emplace_back(name, v);
             }
             return certray::apps::run_query(query);
         }

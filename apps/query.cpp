@@ -22,11 +22,13 @@
 #include <string_view>
 #include <thread>
 
+#include "certray/certray.h"
 #include "expr/load.h"
 #include "expr/tape.h"
 #include "solvers/ray.h"
 #include "solvers/ray_io.h"
 #include "tracers/methods.h"
+#include "tracers/parallel.h"
 
 namespace certray::apps {
 namespace {
@@ -77,72 +79,9 @@ class AtomicOutput {
     bool open_ = false;
 };
 
-/// Runs `fn` over all rays on `threads` workers, results in input order. Prints a progress line on
-/// stderr when it is a terminal and the run takes more than a second.
-std::vector<RayResult> solve_all(const std::vector<Ray>& rays, const tracers::RayFunction& fn,
-                                 unsigned threads) {
-    constexpr std::size_t kChunk = 64;
-    const std::size_t n = rays.size();
-    std::vector<RayResult> results(n);
-    std::atomic<std::size_t> next{0};
-    std::atomic<std::size_t> done{0};
-    std::mutex mutex;
-    std::condition_variable finished_cv;
-    unsigned finished = 0;
-    std::exception_ptr error;
-
-    auto worker = [&] {
-        try {
-            for (;;) {
-                const std::size_t begin = next.fetch_add(kChunk, std::memory_order_relaxed);
-                if (begin >= n) break;
-                const std::size_t end = std::min(n, begin + kChunk);
-                for (std::size_t i = begin; i < end; ++i) results[i] = fn(rays[i]);
-                done.fetch_add(end - begin, std::memory_order_relaxed);
-            }
-        } catch (...) {
-            std::lock_guard lock(mutex);
-            if (!error) error = std::current_exception();
-            next.store(n);  // stop the others early
-        }
-        std::lock_guard lock(mutex);
-        ++finished;
-        finished_cv.notify_all();
-    };
-
-    const unsigned workers =
-        static_cast<unsigned>(std::clamp<std::size_t>((n + kChunk - 1) / kChunk, 1, threads));
-    std::vector<std::thread> pool;
-    pool.reserve(workers);
-    for (unsigned i = 0; i < workers; ++i) pool.emplace_back(worker);
-
-    const bool tty = isatty(STDERR_FILENO) != 0;
-    const auto start = std::chrono::steady_clock::now();
-    bool printed = false;
-    {
-        std::unique_lock lock(mutex);
-        while (!finished_cv.wait_for(lock, std::chrono::milliseconds(200),
-                                     [&] { return finished == workers; })) {
-            if (!tty || std::chrono::steady_clock::now() - start < std::chrono::seconds(1)) {
-                continue;
-            }
-            const std::size_t d = done.load(std::memory_order_relaxed);
-            std::fprintf(stderr, "\rcertray query: %zu / %zu rays (%.0f%%)", d, n,
-                         n == 0
-                             ? 100.0
-                             : std::floor(100.0 * static_cast<double>(d) / static_cast<double>(n)));
-            std::fflush(stderr);
-            printed = true;
-        }
-    }
-    for (std::thread& t : pool) t.join();
-    if (printed) std::fprintf(stderr, "\rcertray query: %zu / %zu rays (100%%)\n", n, n);
-    if (error) std::rethrow_exception(error);
-    return results;
-}
-
-nlohmann::json make_stats(const QueryOptions& options, const expr::Tape& tape,
-                          const std::vector<RayResult>& results, double seconds, unsigned threads) {
+nlohmann::json make_stats(const QueryOptions& options, const tracers::MethodOptions& knobs,
+                          const expr::Tape& tape, const std::vector<RayResult>& results,
+                          double seconds, unsigned threads) {
     EvalCounts sum;
     std::uint64_t max_total = 0;
     std::uint64_t counts[3] = {0, 0, 0};
@@ -156,12 +95,18 @@ nlohmann::json make_stats(const QueryOptions& options, const expr::Tape& tape,
                         : static_cast<double>(sum.total()) / static_cast<double>(results.size());
     nlohmann::json j;
     j["method"] = options.method;
+    j["certified"] = tracers::method_info(options.method).certified;
+    j["surface"] = "zero";
     j["scene"] = options.scene;
     j["rays_file"] = options.rays;
     j["rays"] = results.size();
     j["seconds"] = seconds;
     j["threads"] = threads;
-    j["budget"] = options.budget;
+    j["budget"] = knobs.budget;
+    nlohmann::json given = nlohmann::json::object();
+    for (const auto& [name, value] : options.knobs.values) given[name] = value;
+    if (options.knobs.bounds) given["bounds"] = *options.knobs.bounds;
+    j["knobs"] = given;
     j["tape_size"] = tape.size();
     j["evaluations"] = {{"value", sum.value},
                         {"interval", sum.interval},
@@ -179,37 +124,81 @@ nlohmann::json make_stats(const QueryOptions& options, const expr::Tape& tape,
 std::vector<std::string> query_methods() { return tracers::method_names(); }
 
 int run_query(const QueryOptions& options) {
-    const std::vector<std::string> names = query_methods();
-    if (std::find(names.begin(), names.end(), options.method) == names.end()) {
-        std::string list;
-        for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
-        std::cerr << "certray query: unknown method '" << options.method
-                  << "'; available methods: " << list << "\n";
+    tracers::MethodOptions knobs;
+    try {
+        knobs = tracers::resolve_knobs(options.method, options.knobs);
+    } catch (const std::invalid_argument& e) {
+        std::cerr << "certray query: " << e.what() << "\n";
         return 2;
     }
-    const expr::Tape tape(expr::load_graph_file(options.scene));
-    tracers::MethodOptions method_options = options.knobs;
-    method_options.budget = options.budget;
-    const tracers::RayFunction fn = tracers::make_method(options.method, tape, method_options);
-    const std::vector<Ray> rays = read_rays_csv_file(options.rays);
+    const Scene scene = Scene::load(options.scene);
+    std::vector<Ray> rays;
+    if (options.rays == "-") {
+        rays = read_rays_csv(std::cin, "<stdin>");
+    } else {
+        rays = read_rays_csv_file(options.rays);
+    }
 
     // Open the outputs before the long part, so an unwritable directory fails fast.
-    AtomicOutput hits(options.out);
+    std::unique_ptr<AtomicOutput> hits;
+    if (options.out != "-") hits = std::make_unique<AtomicOutput>(options.out);
     std::unique_ptr<AtomicOutput> stats;
     if (!options.stats.empty()) stats = std::make_unique<AtomicOutput>(options.stats);
 
-    const unsigned threads =
-        options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    certray::QueryOptions q;
+    q.method = options.method;
+    q.knobs = options.knobs;
+    q.threads = options.threads;
+    const bool tty = isatty(STDERR_FILENO) != 0;
     const auto start = std::chrono::steady_clock::now();
-    const std::vector<RayResult> results = solve_all(rays, fn, threads);
+    bool printed = false;
+    if (!options.quiet) {
+        // A bar on a terminal; elsewhere a line every 5 s for runs longer than 2 s.
+        auto last = start;
+        q.progress = [&](std::size_t done, std::size_t n) {
+            const auto now = std::chrono::steady_clock::now();
+            const double elapsed = std::chrono::duration<double>(now - start).count();
+            if (elapsed < (tty ? 1.0 : 2.0) ||
+                (done < n && !tty && now - last < std::chrono::seconds(5)))
+                return;
+            last = now;
+            const double pct =
+                n == 0 ? 100.0 : 100.0 * static_cast<double>(done) / static_cast<double>(n);
+            const double rate = static_cast<double>(done) / elapsed;
+            const double left = rate > 0 ? static_cast<double>(n - done) / rate : 0.0;
+            std::fprintf(stderr,
+                         tty ? "\rcertray query: %zu / %zu rays (%.0f%%), %.0f rays/s, %.0f s left"
+                             : "certray query: %zu / %zu rays (%.0f%%), %.0f rays/s, %.0f s left\n",
+                         done, n, std::floor(pct), rate, left);
+            std::fflush(stderr);
+            printed = true;
+        };
+    }
+    const std::vector<RayResult> results = certray::query(scene, rays, q);
+    if (printed && tty) std::fprintf(stderr, "\n");
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    write_hits_csv(hits.stream(), results);
-    if (stats)
-        stats->stream() << make_stats(options, tape, results, seconds, threads).dump(2) << "\n";
-    hits.commit();
+    if (hits) {
+        write_hits_csv(hits->stream(), results);
+    } else {
+        write_hits_csv(std::cout, results);
+        std::cout.flush();
+    }
+    if (stats) {
+        stats->stream() << make_stats(options, knobs, scene.tape(), results, seconds,
+                                      tracers::worker_count(options.threads))
+                               .dump(2)
+                        << "\n";
+    }
+    if (hits) hits->commit();
     if (stats) stats->commit();
+    if (!options.quiet && !tracers::method_info(options.method).certified) {
+        std::fprintf(stderr,
+                     "certray query: '%s' is approximate: its answers are not proven (a hit's t "
+                     "is an estimate; see docs/guide/semantics.md)\n",
+                     options.method.c_str());
+    }
     return 0;
 }
 

@@ -1,12 +1,11 @@
 // apps/query.h — `certray query`: the first surface crossing along each ray of a file.
 //
-// Contract (docs/design.md "The command line"): reads SCENE (.expr or .vm) and RAYS.csv, runs the
-// chosen method on every ray, writes HITS.csv (one line per ray, in input order) and optionally
-// STATS.json. Output files are written to `PATH.tmp` beside PATH and renamed into place only when
-// complete, so a failed run leaves no half-written file behind.
+// Contract (docs/guide/cli.md): reads SCENE and RAYS.csv, answers every ray with the chosen
+// method through the public API (certray::query), writes HITS.csv (one line per ray, in input
+// order; "-" for stdout) and optionally STATS.json. Output files are written to `PATH.tmp` beside
+// PATH and renamed into place only when complete, so a failed run leaves no half-written file.
 #pragma once
 
-#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -15,22 +14,22 @@
 namespace certray::apps {
 
 struct QueryOptions {
-    std::string scene;             ///< the scene file (.expr or .vm)
-    std::string rays;              ///< RAYS.csv
-    std::string method;            ///< a name from query_methods()
-    std::string out;               ///< HITS.csv to write
-    std::string stats;             ///< STATS.json to write; empty for none
-    std::uint64_t budget = 20000;  ///< the most whole-tape evaluations per ray (certified)
-    unsigned threads = 0;          ///< worker threads; 0 means std::thread::hardware_concurrency()
-    tracers::MethodOptions knobs;  ///< the methods' other knobs (budget is taken from `budget`)
+    std::string scene;          ///< the scene file (.expr, .vm, .txt, .json)
+    std::string rays;           ///< RAYS.csv, or "-" for stdin
+    std::string method;         ///< a name of tracers::method_names()
+    std::string out;            ///< HITS.csv to write, or "-" for stdout
+    std::string stats;          ///< STATS.json to write; empty for none
+    unsigned threads = 0;       ///< worker threads; 0 means one per hardware thread
+    bool quiet = false;         ///< no progress on stderr
+    tracers::KnobValues knobs;  ///< the knobs the user set (validated against the registry)
 };
 
 /// The names accepted by QueryOptions::method.
 std::vector<std::string> query_methods();
 
-/// Runs the query and returns the process exit code: 0 on success, 2 for an unknown method (after
-/// printing the available ones on stderr). Throws certray::InputError for bad scene or ray files
-/// and std::runtime_error when an output file cannot be written.
+/// Runs the query and returns the process exit code: 0 on success, 2 for an unknown method or a
+/// knob the method does not read (after printing why on stderr). Throws certray::InputError for
+/// bad scene or ray files and std::runtime_error when an output file cannot be written.
 int run_query(const QueryOptions& options);
 
 }  // namespace certray::apps

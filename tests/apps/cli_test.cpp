@@ -118,12 +118,27 @@ TEST_F(Cli, IoErrorsExitThree) {
     EXPECT_TRUE(err_has("cannot write")) << err_;
 }
 
+TEST_F(Cli, KnobsTheMethodDoesNotReadAreUsageErrors) {
+    // The registry (tracers/methods.h): certified reads only --budget; hermite only --samples.
+    EXPECT_EQ(query("--bounds -1 1"), 2);
+    EXPECT_TRUE(err_has("method 'certified' does not read 'bounds'; its knobs: budget")) << err_;
+    EXPECT_EQ(run("query sphere.expr --rays rays.csv --method hermite --out h.csv --budget 5"), 2);
+    EXPECT_TRUE(err_has("method 'hermite' does not read 'budget'; its knobs: samples")) << err_;
+    EXPECT_EQ(run("query sphere.expr --rays rays.csv --method hermite --out h.csv --samples 8"), 0)
+        << err_;
+    EXPECT_EQ(query("--depth 3"), 2);
+    EXPECT_TRUE(err_has("does not read 'depth'")) << err_;
+}
+
 TEST_F(Cli, BoundsSyntaxIsTheSameEverywhere) {
     for (const char* b : {"-1 1", "-1,1", "=-1,1"}) {
         const std::string opt = std::string(b[0] == '=' ? "--bounds" : "--bounds ") + b;
         EXPECT_EQ(run("inspect sphere.expr --levels 1 " + opt), 0) << opt << ": " << err_;
         EXPECT_NE(out_.find("over [-1, 1]^3"), std::string::npos) << opt << ": " << out_;
-        EXPECT_EQ(query(opt), 0) << opt << ": " << err_;
+        EXPECT_EQ(
+            run("query sphere.expr --rays rays.csv --method certified-octree --out h.csv " + opt),
+            0)
+            << opt << ": " << err_;
         EXPECT_EQ(run("render sphere.expr -o x.png --size 8x8 " + opt), 0) << opt << ": " << err_;
     }
     for (const char* cmd : {"inspect sphere.expr", "render sphere.expr -o x.png",
