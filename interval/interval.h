@@ -713,3 +713,5 @@ template <class M>
 }
 
 }  // namespace certray
+
+#include "interval/interval_ext.h"  // IWYU pragma: export
