@@ -97,11 +97,14 @@ BasicInterval<M> tan(const BasicInterval<M>& x) {
     if (x.is_empty()) return I::empty();
     const double a = x.lower(), b = x.upper();
     if (!std::isfinite(a) || !std::isfinite(b)) return I{I::Boost::whole(), false};
-    // k(t) = (t − π/2)/π: no pole in [a, b] iff one integer n has n < k(a) ≤ k(b) < n + 1.
-    const I pi(detail::kPiLo, detail::kPiHi), half(detail::kHalfPiLo, detail::kHalfPiHi);
-    const I ka = (I(a) - half) / pi, kb = (I(b) - half) / pi;
+    // k(t) = (t − π/2)/π: no pole in [a, b] iff one integer n has n < k(a) ≤ k(b) < n + 1. A
+    // pole is irrational, never a double: k(a) ≠ n and k(b) ≠ n + 1, so n = ⌊lower(k(a))⌋ and
+    // upper(k(b)) ≤ n + 1 suffice (tan(RD(π/2)) is finite and defined).
+    // Written t/π − ½ (not (t − π/2)/π, which widens twice): tight for t = ±RD(π/2).
+    const I pi(detail::kPiLo, detail::kPiHi), half(0.5);
+    const I ka = I(a) / pi - half, kb = I(b) / pi - half;
     const double n = std::floor(ka.lower());
-    if (!(ka.lower() > n && kb.upper() < n + 1)) {
+    if (!(std::isfinite(n) && kb.upper() <= n + 1)) {
         I r = I::entire();
         r.defined = false;
         return r;

@@ -618,16 +618,16 @@ MpfrInterval tan(const MpfrInterval& x) {
     MpfrInterval whole = MpfrInterval::entire(Precision{prec});
     whole.defined = false;
     if (!mpfr_number_p(x.lo()) || !mpfr_number_p(x.hi())) return whole;
-    // k(t) = (t − π/2)/π: no pole in [a, b] iff one integer n has n < k(a) ≤ k(b) < n + 1.
+    // k(t) = (t − π/2)/π: no pole in [a, b] iff one integer n has n < k(a) ≤ k(b) < n + 1. The
+    // bounds are rational, the poles not: n = ⌊lower(k(a))⌋ and upper(k(b)) ≤ n + 1 suffice.
     const MpfrInterval pi = pi_interval(prec);
-    const MpfrInterval half = pi / MpfrInterval(2.0, Precision{prec});
-    const MpfrInterval ka = (point(x.lo(), prec) - half) / pi;
-    const MpfrInterval kb = (point(x.hi(), prec) - half) / pi;
+    const MpfrInterval half(0.5, Precision{prec});
+    const MpfrInterval ka = point(x.lo(), prec) / pi - half;
+    const MpfrInterval kb = point(x.hi(), prec) / pi - half;
     Scratch n(prec);
     mpfr_floor(n, ka.lo());
-    if (!(mpfr_cmp(ka.lo(), n) > 0)) return whole;
-    mpfr_add_ui(n, n, 1, MPFR_RNDD);
-    if (!(mpfr_cmp(kb.hi(), n) < 0)) return whole;
+    mpfr_add_ui(n, n, 1, MPFR_RNDD);  // exact: an integer far below 2^prec
+    if (!(mpfr_cmp(kb.hi(), n) <= 0)) return whole;
     return monotone(x, mpfr_tan);
 }
 
