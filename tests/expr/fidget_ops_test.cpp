@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "expr/derived.h"
 #include "expr/eval.h"
 #include "expr/eval_batch.h"
 #include "expr/graph.h"
@@ -25,6 +26,7 @@
 #include "expr/vm_import.h"
 #include "interval/batch.h"
 #include "interval/mpfr_interval.h"
+#include "tests/support/generators.h"
 #include "tests/support/graph_eval.h"
 #include "tests/support/mpfr_oracle.h"
 
@@ -220,6 +222,41 @@ TEST(FidgetOps, BatchWalkIsBitForBitTheScalarEvaluator) {
 
 // ---- pruning
 // --------------------------------------------------------------------------------------
+
+// Lipschitz bounds (GradBound): where finite they hold between points of the box, decided in
+// MPFR; where an op may jump on the box there is no finite bound.
+RC_GTEST_PROP(FidgetOps, LipschitzBoundHoldsOrIsInfinite, ()) {
+    static const std::vector<Tape> tapes = [] {
+        std::vector<Tape> t;
+        for (const char* text :
+             {"tan(x) + atan(y) - z", "asin(0.5 * sin(x)) + acos(0.25 * y)", "atan2(y, x + 3) - z",
+              "floor(x) + y", "mod(x, 2) + round(y)", "and(compare(x, y), z) + or(not(x), y)",
+              "recip(x^2 + 1) + ceil(z)"}) {
+            t.emplace_back(parse_expr(text));
+        }
+        return t;
+    }();
+    const Tape& tape = tapes[*rc::gen::inRange<std::size_t>(0, tapes.size())];
+    const auto coord = [] {
+        return *rc::gen::map(rc::gen::inRange(-3000, 3000), [](int k) { return k / 1000.0; });
+    };
+    const double w = std::ldexp(1.0, *rc::gen::inRange(-12, 0));
+    std::array<Interval, 3> box;
+    std::array<double, 3> p, q;
+    for (int i = 0; i < 3; ++i) {
+        const double c = coord();
+        box[i] = Interval(c - w, c + w);
+        p[i] = *testing::gen_point_in(c - w, c + w);
+        q[i] = *testing::gen_point_in(c - w, c + w);
+    }
+    const double lambda = lipschitz_bound(tape, box);
+    RC_ASSERT(lambda >= 0);
+    if (std::isfinite(lambda)) RC_ASSERT(testing::lipschitz_holds(tape, lambda, p, q));
+    // A jump inside the box: floor(x) + y over x ∈ [0.5, 1.5] has no Lipschitz constant.
+    static const Tape jump(parse_expr("floor(x) + y"));
+    RC_ASSERT(
+        std::isinf(lipschitz_bound(jump, {Interval(0.5, 1.5), Interval(0, 1), Interval(0.0)})));
+}
 
 TEST(FidgetOps, AndOrPruneWhereTheFirstOperandDecides) {
     Graph g;
