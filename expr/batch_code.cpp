@@ -48,6 +48,10 @@ void compile_batch(const Tape& tape, BatchCode& out) {
         const int reads = arity(x.op);
         const std::uint32_t ka = reads >= 1 ? const_at[x.a] : kNone;
         const std::uint32_t kb = reads == 2 ? const_at[x.b] : kNone;
+        if (code(x.op) >= kOwnCodes) {  // a scalar op: its Op into imm, its code into the op byte
+            x.imm = static_cast<double>(code(x.op));
+            x.op = static_cast<Op>(batch_code(x.op));
+        }
         const unsigned second = imm_form(x.op, true), first = imm_form(x.op, false);
         if (kb != kNone && second != 0) {
             x.imm = in[kb].imm;
@@ -76,7 +80,7 @@ void compile_batch(const Tape& tape, BatchCode& out) {
     live[tape.output()] = 1;
     thread_local std::vector<unsigned char> keep;  // per instruction: its result stays unstored
     keep.assign(w, 0);
-    const auto reads = [](const Instr& x) { return is_imm(code(x.op)) ? 1 : arity(x.op); };
+    const auto reads = [](const Instr& x) { return code_reads(code(x.op)); };
     for (std::size_t j = w; j-- > 0;) {
         const Instr& x = prog[j];
         const int k = reads(x);

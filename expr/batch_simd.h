@@ -159,5 +159,41 @@ inline void transcendental(Op op, const double* a, double* o) {
     }
 }
 
+/// o[k] = op(a[k], b[k]) for k < N for the ops without a batch code of their own (Floor … Or),
+/// with the scalar double functions run<double> calls (b unused by unary ops); in place is fine.
+template <int N>
+inline void scalar_lanes(Op op, const double* a, const double* b, double* o) {
+    switch (op) {
+#define CERTRAY_SCALAR1(OP, F)                      \
+    case Op::OP:                                    \
+        for (int k = 0; k < N; ++k) o[k] = F(a[k]); \
+        break;
+#define CERTRAY_SCALAR2(OP, F)                            \
+    case Op::OP:                                          \
+        for (int k = 0; k < N; ++k) o[k] = F(a[k], b[k]); \
+        break;
+        CERTRAY_SCALAR1(Floor, certray::floor)
+        CERTRAY_SCALAR1(Ceil, certray::ceil)
+        CERTRAY_SCALAR1(Round, certray::round)
+        CERTRAY_SCALAR1(Tan, certray::tan)
+        CERTRAY_SCALAR1(Asin, certray::asin)
+        CERTRAY_SCALAR1(Acos, certray::acos)
+        CERTRAY_SCALAR1(Atan, certray::atan)
+        CERTRAY_SCALAR1(Not, certray::logic_not)
+        CERTRAY_SCALAR2(Atan2, certray::atan2)
+        CERTRAY_SCALAR2(Compare, certray::compare)
+        CERTRAY_SCALAR2(Mod, certray::mod)
+        CERTRAY_SCALAR2(And, certray::logic_and)
+        CERTRAY_SCALAR2(Or, certray::logic_or)
+#undef CERTRAY_SCALAR1
+#undef CERTRAY_SCALAR2
+        case Op::Recip:
+            for (int k = 0; k < N; ++k) o[k] = 1.0 / a[k];
+            break;
+        default:
+            break;  // an op with a batch code of its own: never called so
+    }
+}
+
 }  // namespace
 }  // namespace certray::expr::detail

@@ -116,6 +116,29 @@ inline Expr max(const Expr& a, const Expr& b) { return detail::binary(Op::Max, a
 inline Expr max(const Expr& a, double b) { return detail::binary(Op::Max, a, b); }
 /// max(a, b)
 inline Expr max(double a, const Expr& b) { return detail::binary(Op::Max, a, b); }
+/// ⌊a⌋, ⌈a⌉, a rounded half away from 0 (Fidget's floor, ceil, round)
+inline Expr floor(const Expr& a) { return detail::unary(Op::Floor, a); }
+inline Expr ceil(const Expr& a) { return detail::unary(Op::Ceil, a); }
+inline Expr round(const Expr& a) { return detail::unary(Op::Round, a); }
+/// tan a, asin a, acos a, atan a, 1/a
+inline Expr tan(const Expr& a) { return detail::unary(Op::Tan, a); }
+inline Expr asin(const Expr& a) { return detail::unary(Op::Asin, a); }
+inline Expr acos(const Expr& a) { return detail::unary(Op::Acos, a); }
+inline Expr atan(const Expr& a) { return detail::unary(Op::Atan, a); }
+inline Expr recip(const Expr& a) { return detail::unary(Op::Recip, a); }
+/// Fidget's not: 1 if a = 0, else 0
+inline Expr logic_not(const Expr& a) { return detail::unary(Op::Not, a); }
+/// atan2(y, x), the angle of (x, y) in (−π, π]
+inline Expr atan2(const Expr& y, const Expr& x) { return detail::binary(Op::Atan2, y, x); }
+/// Fidget's compare: −1, 0, 1 as a < b, a = b, a > b
+inline Expr compare(const Expr& a, const Expr& b) { return detail::binary(Op::Compare, a, b); }
+/// a − |b|·⌊a/|b|⌋ (Euclidean remainder)
+inline Expr mod(const Expr& a, const Expr& b) { return detail::binary(Op::Mod, a, b); }
+/// a − |b|·⌊a/|b|⌋ (Euclidean remainder)
+inline Expr mod(const Expr& a, double b) { return detail::binary(Op::Mod, a, b); }
+/// Fidget's and: a if a = 0, else b; or: a if a ≠ 0, else b
+inline Expr logic_and(const Expr& a, const Expr& b) { return detail::binary(Op::And, a, b); }
+inline Expr logic_or(const Expr& a, const Expr& b) { return detail::binary(Op::Or, a, b); }
 /// aⁿ for a non-negative integer n
 inline Expr pow(const Expr& a, unsigned n) {
     Graph& g = detail::graph_of(a);

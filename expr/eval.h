@@ -67,7 +67,9 @@ void run(const std::vector<Instr>& instrs, const std::array<T, 3>& p, T* r, Obse
     // The math functions of namespace certray (and std's, which it brings in) for doubles; other
     // types are found by ADL. Named here so that the builder's expr::min & co. cannot hide them.
     using certray::abs, certray::square, certray::pow, certray::sqrt, certray::exp, certray::log,
-        certray::sin, certray::cos, certray::min, certray::max;
+        certray::sin, certray::cos, certray::min, certray::max, certray::floor, certray::ceil,
+        certray::round, certray::tan, certray::asin, certray::acos, certray::atan, certray::atan2,
+        certray::compare, certray::mod, certray::logic_and, certray::logic_or, certray::logic_not;
     for (const Instr& in : instrs) {
         switch (in.op) {
             case Op::Const:
@@ -126,6 +128,48 @@ void run(const std::vector<Instr>& instrs, const std::array<T, 3>& p, T* r, Obse
                 break;
             case Op::Max:
                 r[in.out] = max(r[in.a], r[in.b]);
+                break;
+            case Op::Floor:
+                r[in.out] = floor(r[in.a]);
+                break;
+            case Op::Ceil:
+                r[in.out] = ceil(r[in.a]);
+                break;
+            case Op::Round:
+                r[in.out] = round(r[in.a]);
+                break;
+            case Op::Tan:
+                r[in.out] = tan(r[in.a]);
+                break;
+            case Op::Asin:
+                r[in.out] = asin(r[in.a]);
+                break;
+            case Op::Acos:
+                r[in.out] = acos(r[in.a]);
+                break;
+            case Op::Atan:
+                r[in.out] = atan(r[in.a]);
+                break;
+            case Op::Not:
+                r[in.out] = logic_not(r[in.a]);
+                break;
+            case Op::Recip:
+                r[in.out] = T(1.0) / r[in.a];
+                break;
+            case Op::Atan2:
+                r[in.out] = atan2(r[in.a], r[in.b]);
+                break;
+            case Op::Compare:
+                r[in.out] = compare(r[in.a], r[in.b]);
+                break;
+            case Op::Mod:
+                r[in.out] = mod(r[in.a], r[in.b]);
+                break;
+            case Op::And:
+                r[in.out] = logic_and(r[in.a], r[in.b]);
+                break;
+            case Op::Or:
+                r[in.out] = logic_or(r[in.a], r[in.b]);
                 break;
         }
         obs(in, r);

@@ -50,7 +50,8 @@ static_assert(sizeof(Batch) == kBatch * sizeof(double), "Batch must be its lanes
 
 /// True for the codes computed by arith(): everything but the leaves and the libm calls.
 constexpr bool is_arith(unsigned c) {
-    return c >= code(Op::Neg) && c < kCodeCount && !(c >= code(Op::Exp) && c <= code(Op::Cos));
+    return c >= code(Op::Neg) && c < kCodeCount && !(c >= code(Op::Exp) && c <= code(Op::Cos)) &&
+           !is_scalar(c);
 }
 
 /// Code C on one vector of lanes: x is operand a; y is operand b (binary ops) or the immediate
@@ -77,7 +78,12 @@ template <class V, unsigned C>
 
 /// Whether code C reads operand b from a register (the binary ops; not their immediate forms).
 template <unsigned C>
-constexpr bool reads_b = !is_imm(C) && arity(static_cast<Op>(C)) == 2;
+constexpr bool reads_b = code_reads(C) == 2;
+
+/// The Op of a kScalar1/kScalar2 instruction: in `imm` in batch code (keyed), else its own.
+inline Op scalar_op(const Instr& in, bool keyed) {
+    return keyed ? static_cast<Op>(static_cast<unsigned>(in.imm)) : in.op;
+}
 
 // ---- the plain walk ---------------------------------------------------------------------------
 
@@ -108,7 +114,7 @@ inline void walk_plain(const Instr* in, const Instr* const end, const double* co
     static_assert(N % W == 0 && N <= S);
     for (; in != end; ++in) {
         double* const o = regs + std::size_t{in->out} * S;
-        const unsigned c = keyed ? code(in->op) / 8 : code(in->op);  // the op (or batch code)
+        const unsigned c = keyed ? code(in->op) / 8 : batch_code(in->op);  // the batch code
         switch (c) {
             case code(Op::Const): {
                 const typename V::R imm = V::set1(in->imm);
@@ -127,6 +133,11 @@ inline void walk_plain(const Instr* in, const Instr* const end, const double* co
             case code(Op::Sin):
             case code(Op::Cos):
                 transcendental<N>(static_cast<Op>(c), regs + std::size_t{in->a} * S, o);
+                break;
+            case kScalar1:
+            case kScalar2:
+                scalar_lanes<N>(scalar_op(*in, keyed), regs + std::size_t{in->a} * S,
+                                regs + std::size_t{in->b} * S, o);
                 break;
 #define CERTRAY_PLAIN_CASE(C)              \
     case C:                                \
@@ -166,7 +177,7 @@ inline void walk_plain(const Instr* in, const Instr* const end, const double* co
 constexpr std::uint32_t reads_mask(int operands) {
     std::uint32_t m = 0;
     for (unsigned o = 0; o < kCodeCount; ++o) {
-        const int reads = is_imm(o) ? 1 : arity(static_cast<Op>(o));
+        const int reads = code_reads(o);
         if (reads >= operands) m |= 1u << o;
     }
     return m;
@@ -186,7 +197,7 @@ template <int B, class G>
 /// holding the result.
 template <class V, int N, int S, Op OP, bool AA, bool BA, bool KEEP>
 [[gnu::always_inline]] inline void carry_step(typename V::R (&acc)[N / V::kWidth], const Instr& in,
-                                              const double* const* p, double* regs) {
+                                              const double* const* p, double* regs, bool keyed) {
     constexpr int W = V::kWidth, B = N / W;
     using R = typename V::R;
     double* const o = regs + std::size_t{in.out} * S;
@@ -218,6 +229,14 @@ template <class V, int N, int S, Op OP, bool AA, bool BA, bool KEEP>
         transcendental<N>(OP, AA ? tmp : a, o);
         each<B>([&](auto k) { acc[k()] = V::load(o + k() * W); });
         stored = true;
+    } else if constexpr (is_scalar(code(OP))) {
+        // OP is the code kScalar1/kScalar2 (not an Op): the scalar functions lane by lane, memory
+        // to memory; a carried operand is spilled first.
+        alignas(64) double tmp[N];
+        if constexpr (AA || BA) each<B>([&](auto k) { V::store(tmp + k() * W, acc[k()]); });
+        scalar_lanes<N>(scalar_op(in, keyed), AA ? tmp : a, BA ? tmp : b, o);
+        each<B>([&](auto k) { acc[k()] = V::load(o + k() * W); });
+        stored = true;
     } else {
         constexpr unsigned C = code(OP);
         const R imm = V::set1(in.imm);  // the immediate, or unused
@@ -245,13 +264,13 @@ inline void walk_carry(const Instr* in, const Instr* const end, const double* co
     typename V::R acc[B] = {};
     std::uint32_t carried = ~0u;  // the register whose value acc holds (none yet)
     for (; in != end; ++in) {
-        unsigned k = code(in->op);
+        unsigned k = keyed ? code(in->op) : batch_code(in->op);
         if (!keyed) {
             const std::uint32_t out = in->out;
             unsigned keep = 0;
             if (in + 1 != end) {
                 const Instr& next = in[1];
-                const std::uint32_t m = 1u << static_cast<unsigned>(next.op);
+                const std::uint32_t m = 1u << batch_code(next.op);
                 keep = next.out == out &&
                        (((m & kReadsA) && next.a == out) || ((m & kReadsB) && next.b == out));
             }
@@ -261,19 +280,23 @@ inline void walk_carry(const Instr* in, const Instr* const end, const double* co
             carried = out;
         }
         // Leaves never carry an operand, unary ops never a second one: their keys skip those.
-        static_assert(kOpCount == 19, "walk_carry: give a new op its cases below");
+        static_assert(kOpCount == 33, "walk_carry: give a new op its cases below");
         switch (k) {
-#define CERTRAY_CARRY_CASE(OP, AA, BA, KEEP)                          \
-    case code(Op::OP) * 8 + AA * 4 + BA * 2 + KEEP:                   \
-        carry_step<V, N, S, Op::OP, AA, BA, KEEP>(acc, *in, p, regs); \
+#define CERTRAY_CARRY_CASE(OP, AA, BA, KEEP)                                 \
+    case code(Op::OP) * 8 + AA * 4 + BA * 2 + KEEP:                          \
+        carry_step<V, N, S, Op::OP, AA, BA, KEEP>(acc, *in, p, regs, keyed); \
         break;
-#define CERTRAY_CARRY_IMM_CASE(C, AA, KEEP)                                          \
-    case C * 8 + AA * 4 + KEEP:                                                      \
-        carry_step<V, N, S, static_cast<Op>(C), AA, false, KEEP>(acc, *in, p, regs); \
+#define CERTRAY_CARRY_IMM_CASE(C, AA, KEEP)                                                 \
+    case C * 8 + AA * 4 + KEEP:                                                             \
+        carry_step<V, N, S, static_cast<Op>(C), AA, false, KEEP>(acc, *in, p, regs, keyed); \
         break;
 #define CERTRAY_CARRY_IMM(C)        \
     CERTRAY_CARRY_IMM_CASE(C, 0, 0) \
     CERTRAY_CARRY_IMM_CASE(C, 0, 1) CERTRAY_CARRY_IMM_CASE(C, 1, 0) CERTRAY_CARRY_IMM_CASE(C, 1, 1)
+#define CERTRAY_CARRY_CODE_CASE(C, AA, BA, KEEP)                                         \
+    case C * 8 + AA * 4 + BA * 2 + KEEP:                                                 \
+        carry_step<V, N, S, static_cast<Op>(C), AA, BA, KEEP>(acc, *in, p, regs, keyed); \
+        break;
 #define CERTRAY_CARRY_LEAF(OP) CERTRAY_CARRY_CASE(OP, 0, 0, 0) CERTRAY_CARRY_CASE(OP, 0, 0, 1)
 #define CERTRAY_CARRY_UNARY(OP) \
     CERTRAY_CARRY_LEAF(OP) CERTRAY_CARRY_CASE(OP, 1, 0, 0) CERTRAY_CARRY_CASE(OP, 1, 0, 1)
@@ -310,6 +333,19 @@ inline void walk_carry(const Instr* in, const Instr* const end, const double* co
             CERTRAY_CARRY_IMM(kMinIR)
             CERTRAY_CARRY_IMM(kMaxRI)
             CERTRAY_CARRY_IMM(kMaxIR)
+            CERTRAY_CARRY_CODE_CASE(kScalar1, 0, 0, 0)
+            CERTRAY_CARRY_CODE_CASE(kScalar1, 0, 0, 1)
+            CERTRAY_CARRY_CODE_CASE(kScalar1, 1, 0, 0)
+            CERTRAY_CARRY_CODE_CASE(kScalar1, 1, 0, 1)
+            CERTRAY_CARRY_CODE_CASE(kScalar2, 0, 0, 0)
+            CERTRAY_CARRY_CODE_CASE(kScalar2, 0, 0, 1)
+            CERTRAY_CARRY_CODE_CASE(kScalar2, 1, 0, 0)
+            CERTRAY_CARRY_CODE_CASE(kScalar2, 1, 0, 1)
+            CERTRAY_CARRY_CODE_CASE(kScalar2, 0, 1, 0)
+            CERTRAY_CARRY_CODE_CASE(kScalar2, 0, 1, 1)
+            CERTRAY_CARRY_CODE_CASE(kScalar2, 1, 1, 0)
+            CERTRAY_CARRY_CODE_CASE(kScalar2, 1, 1, 1)
+#undef CERTRAY_CARRY_CODE_CASE
 #undef CERTRAY_CARRY_IMM
 #undef CERTRAY_CARRY_IMM_CASE
 #undef CERTRAY_CARRY_BINARY

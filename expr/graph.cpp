@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "interval/number.h"
 namespace certray::expr {
 namespace detail {
 namespace {
@@ -209,6 +210,28 @@ NodeId Graph::unary(Op op, NodeId a) {
         case Op::Cos:
             if (is_const && c == 0.0) return constant(1.0);  // cos 0 = 1
             break;
+        case Op::Floor:
+            if (is_const) return constant(std::floor(c));  // exact
+            break;
+        case Op::Ceil:
+            if (is_const) return constant(std::ceil(c));  // exact
+            break;
+        case Op::Round:
+            if (is_const) return constant(std::round(c));  // exact
+            break;
+        case Op::Not:
+            if (is_const) return constant(c == 0.0 ? 1.0 : 0.0);  // exact
+            break;
+        case Op::Tan:
+        case Op::Asin:
+        case Op::Atan:
+            if (is_const && c == 0.0) return constant(c);  // f(±0) = ±0
+            break;
+        case Op::Acos:
+            break;
+        case Op::Recip:
+            if (is_const && rn && detail::exact_quotient(1.0, c, r)) return constant(r);
+            break;
         case Op::Const:
         case Op::VarX:
         case Op::VarY:
@@ -220,6 +243,11 @@ NodeId Graph::unary(Op op, NodeId a) {
         case Op::Min:
         case Op::Max:
         case Op::Pow:
+        case Op::Atan2:
+        case Op::Compare:
+        case Op::Mod:
+        case Op::And:
+        case Op::Or:
             break;  // rejected above
     }
     Node n;
@@ -284,6 +312,18 @@ NodeId Graph::binary(Op op, NodeId a, NodeId b) {
             if (ca && cb) return constant(std::fmax(na.constant, nb.constant));  // exact
             if (a == b) return a;
             break;
+        case Op::Compare:
+            if (ca && cb) return constant(certray::compare(na.constant, nb.constant));  // exact
+            break;
+        case Op::And:
+            if (ca) return na.constant == 0.0 ? a : b;  // and(0, y) = 0, and(c ≠ 0, y) = y
+            break;
+        case Op::Or:
+            if (ca) return na.constant != 0.0 ? a : b;  // or(c ≠ 0, y) = c, or(0, y) = y
+            break;
+        case Op::Atan2:
+        case Op::Mod:
+            break;
         case Op::Const:
         case Op::VarX:
         case Op::VarY:
@@ -297,6 +337,15 @@ NodeId Graph::binary(Op op, NodeId a, NodeId b) {
         case Op::Sin:
         case Op::Cos:
         case Op::Pow:
+        case Op::Floor:
+        case Op::Ceil:
+        case Op::Round:
+        case Op::Tan:
+        case Op::Asin:
+        case Op::Acos:
+        case Op::Atan:
+        case Op::Recip:
+        case Op::Not:
             break;  // rejected above
     }
     Node n;

@@ -303,6 +303,10 @@ std::optional<Function> find_function(std::string_view s) {
     if (s == "square") return Function{Op::Square, 1};
     if (s == "min") return Function{Op::Min, 2};
     if (s == "max") return Function{Op::Max, 2};
+    for (Op op : {Op::Floor, Op::Ceil, Op::Round, Op::Tan, Op::Asin, Op::Acos, Op::Atan, Op::Recip,
+                  Op::Not, Op::Atan2, Op::Compare, Op::Mod, Op::And, Op::Or}) {
+        if (s == name(op)) return Function{op, arity(op)};
+    }
     return std::nullopt;
 }
 

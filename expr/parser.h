@@ -11,7 +11,8 @@
 //   power     := primary [ '^' integer ]                   ; a^2^3 is rejected: (a^2)^3
 //   primary   := number | x | y | z | name | function '(' sum { ',' sum } ')' | '(' sum ')'
 // Numbers are decimal (`1`, `1.5`, `.5`, `1.`, `2e-3`), meaning the nearest double; no sign, no
-// hex, no inf/nan. Functions: sqrt abs exp log sin cos square (1 argument), min max (2).
+// hex, no inf/nan. Functions: sqrt abs exp log sin cos square floor ceil round tan asin acos atan
+// recip not (1 argument), min max atan2 compare mod and or (2; Fidget's semantics, expr/op.h).
 // Comments run from '#' to the end of the line. Nesting (parentheses, function calls) is limited to
 // kMaxNesting levels, so no input can overflow the stack. Errors throw certray::InputError with
 // file, line and column.

@@ -43,9 +43,59 @@ int precedence(const Node& n) {
         case Op::Cos:
         case Op::Min:
         case Op::Max:
+        case Op::Floor:
+        case Op::Ceil:
+        case Op::Round:
+        case Op::Tan:
+        case Op::Asin:
+        case Op::Acos:
+        case Op::Atan:
+        case Op::Recip:
+        case Op::Not:
+        case Op::Atan2:
+        case Op::Compare:
+        case Op::Mod:
+        case Op::And:
+        case Op::Or:
             return 5;
     }
     return 5;
+}
+
+// "name(" of a function-call op, for the printer's text pieces (static storage).
+const char* fn_open(Op op) {
+    switch (op) {
+        case Op::Floor:
+            return "floor(";
+        case Op::Ceil:
+            return "ceil(";
+        case Op::Round:
+            return "round(";
+        case Op::Tan:
+            return "tan(";
+        case Op::Asin:
+            return "asin(";
+        case Op::Acos:
+            return "acos(";
+        case Op::Atan:
+            return "atan(";
+        case Op::Recip:
+            return "recip(";
+        case Op::Not:
+            return "not(";
+        case Op::Atan2:
+            return "atan2(";
+        case Op::Compare:
+            return "compare(";
+        case Op::Mod:
+            return "mod(";
+        case Op::And:
+            return "and(";
+        case Op::Or:
+            return "or(";
+        default:
+            return "?(";  // not a function-call op
+    }
 }
 
 std::string format_constant(double c) {
@@ -199,6 +249,22 @@ class Printer {
                     break;
                 case Op::Max:
                     call("max(");
+                    break;
+                case Op::Floor:
+                case Op::Ceil:
+                case Op::Round:
+                case Op::Tan:
+                case Op::Asin:
+                case Op::Acos:
+                case Op::Atan:
+                case Op::Recip:
+                case Op::Not:
+                case Op::Atan2:
+                case Op::Compare:
+                case Op::Mod:
+                case Op::And:
+                case Op::Or:
+                    call(fn_open(n.op));
                     break;
                 case Op::Square:
                     pieces.push_back(child(n.a, 5));

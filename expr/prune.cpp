@@ -19,16 +19,17 @@ namespace certray::expr {
 
 namespace {
 
-/// Per op: its arity (bits 0–1), whether it is min (bit 2) or max (bit 3), and whether it may be
-/// folded to a constant (bit 4: every op but Const).
-constexpr unsigned kMin = 4, kMax = 8, kFoldable = 16;
+/// Per op: its arity (bits 0–1), whether it is min (bit 2) or max (bit 3), whether it may be
+/// folded to a constant (bit 4: every op but Const), and whether it is and/or (bit 5: a choice
+/// by the first operand's zeroness).
+constexpr unsigned kMin = 4, kMax = 8, kFoldable = 16, kSelect = 32;
 constexpr std::array<std::uint8_t, kOpCount> kInfo = [] {
     std::array<std::uint8_t, kOpCount> t{};
     for (int k = 0; k < kOpCount; ++k) {
         const auto op = static_cast<Op>(k);
-        t[k] = static_cast<std::uint8_t>(arity(op) | (op == Op::Min ? kMin : 0) |
-                                         (op == Op::Max ? kMax : 0) |
-                                         (op != Op::Const ? kFoldable : 0));
+        t[k] = static_cast<std::uint8_t>(
+            arity(op) | (op == Op::Min ? kMin : 0) | (op == Op::Max ? kMax : 0) |
+            (op == Op::And || op == Op::Or ? kSelect : 0) | (op != Op::Const ? kFoldable : 0));
     }
     return t;
 }();
@@ -50,9 +51,19 @@ template <std::size_t Stride>
     if (point != 0) [[unlikely]] {
         if (out.defined && std::isfinite(out.lower())) return kConstant;
     }
-    if ((info & (kMin | kMax)) == 0) return kBoth;
+    if ((info & (kMin | kMax | kSelect)) == 0) return kBoth;
     const UpInterval& a = v[in.a * step];
     const UpInterval& b = v[in.b * step];
+    if (info & kSelect) [[unlikely]] {
+        // and(a, b) = a where a = 0, b where a ≠ 0; or(a, b) the other way round. Dropping a
+        // (choosing b) needs a defined; choosing a never reads b.
+        const bool nonzero = !a.is_empty() && (a.lower() > 0 || a.upper() < 0);
+        const bool zero = a.lower() == 0 && a.upper() == 0;
+        const bool is_and = in.op == Op::And;
+        if (nonzero) return is_and ? (a.defined ? kB : kBoth) : kA;
+        if (zero) return is_and ? kA : (a.defined ? kB : kBoth);
+        return kBoth;
+    }
     // below: a ≤ b everywhere on the box, above: a ≥ b (both when a and b are the same value).
     // min keeps a when a is below, b when a is above; max the other way round. A dropped branch
     // must be defined.

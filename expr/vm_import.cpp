@@ -41,8 +41,12 @@ Opcode lookup(std::string_view s) {
     if (s == "div") return {Kind::Binary, Op::Div};
     if (s == "min") return {Kind::Binary, Op::Min};
     if (s == "max") return {Kind::Binary, Op::Max};
-    for (std::string_view u : {"floor", "ceil", "round", "tan", "asin", "acos", "atan", "not",
-                               "atan2", "compare", "mod", "and", "or"}) {
+    for (Op op : {Op::Floor, Op::Ceil, Op::Round, Op::Tan, Op::Asin, Op::Acos, Op::Atan, Op::Recip,
+                  Op::Not, Op::Atan2, Op::Compare, Op::Mod, Op::And, Op::Or}) {
+        if (s == name(op)) return {arity(op) == 1 ? Kind::Unary : Kind::Binary, op};
+    }
+    // Fidget's pseudo-random opcodes: no real function to certify.
+    for (std::string_view u : {"rand", "mix"}) {
         if (s == u) return {Kind::Unsupported, Op::Const};
     }
     return {Kind::Unknown, Op::Const};

@@ -596,6 +596,127 @@ Affine<N>& operator/=(Affine<N>& a, const Affine<N>& b) {
     return a = a / b;
 }
 
+// ---- Fidget's further ops (issue 14): through the Interval operation on the range (and, or:
+// the selected operand itself when the range of the first decides it) ---------------------------
+
+/// floor: the Interval floor of the range (no correlation kept).
+template <int N>
+Affine<N> floor(const Affine<N>& x) {
+    RoundingScope scope;
+    return detail::unary_fallback(x, [](const UpInterval& a) { return floor(a); });
+}
+
+/// ceil: the Interval ceil of the range (no correlation kept).
+template <int N>
+Affine<N> ceil(const Affine<N>& x) {
+    RoundingScope scope;
+    return detail::unary_fallback(x, [](const UpInterval& a) { return ceil(a); });
+}
+
+/// round: the Interval round of the range (no correlation kept).
+template <int N>
+Affine<N> round(const Affine<N>& x) {
+    RoundingScope scope;
+    return detail::unary_fallback(x, [](const UpInterval& a) { return round(a); });
+}
+
+/// tan: the Interval tan of the range (no correlation kept).
+template <int N>
+Affine<N> tan(const Affine<N>& x) {
+    RoundingScope scope;
+    return detail::unary_fallback(x, [](const UpInterval& a) { return tan(a); });
+}
+
+/// asin: the Interval asin of the range (no correlation kept).
+template <int N>
+Affine<N> asin(const Affine<N>& x) {
+    RoundingScope scope;
+    return detail::unary_fallback(x, [](const UpInterval& a) { return asin(a); });
+}
+
+/// acos: the Interval acos of the range (no correlation kept).
+template <int N>
+Affine<N> acos(const Affine<N>& x) {
+    RoundingScope scope;
+    return detail::unary_fallback(x, [](const UpInterval& a) { return acos(a); });
+}
+
+/// atan: the Interval atan of the range (no correlation kept).
+template <int N>
+Affine<N> atan(const Affine<N>& x) {
+    RoundingScope scope;
+    return detail::unary_fallback(x, [](const UpInterval& a) { return atan(a); });
+}
+
+/// logic_not: the Interval logic_not of the range (no correlation kept).
+template <int N>
+Affine<N> logic_not(const Affine<N>& x) {
+    RoundingScope scope;
+    return detail::unary_fallback(x, [](const UpInterval& a) { return logic_not(a); });
+}
+
+/// atan2: the Interval atan2 of the ranges.
+template <int N>
+Affine<N> atan2(const Affine<N>& x, const Affine<N>& y) {
+    RoundingScope scope;
+    return detail::binary_fallback(
+        x, y, [](const UpInterval& a, const UpInterval& b) { return atan2(a, b); });
+}
+
+/// compare: the Interval compare of the ranges.
+template <int N>
+Affine<N> compare(const Affine<N>& x, const Affine<N>& y) {
+    RoundingScope scope;
+    return detail::binary_fallback(
+        x, y, [](const UpInterval& a, const UpInterval& b) { return compare(a, b); });
+}
+
+/// mod: the Interval mod of the ranges.
+template <int N>
+Affine<N> mod(const Affine<N>& x, const Affine<N>& y) {
+    RoundingScope scope;
+    return detail::binary_fallback(
+        x, y, [](const UpInterval& a, const UpInterval& b) { return mod(a, b); });
+}
+
+/// logic_and: y where x ≠ 0, x where x ≡ 0 (the operand itself); undecided: the Interval logic_and.
+template <int N>
+Affine<N> logic_and(const Affine<N>& x, const Affine<N>& y) {
+    RoundingScope scope;
+    const UpInterval xr = x.range_up();
+    if (!xr.is_empty() && (xr.lower() > 0 || xr.upper() < 0)) {
+        Affine<N> r = y;
+        r.defined = r.defined && x.defined && !r.is_empty();
+        return r;
+    }
+    if (xr.lower() == 0 && xr.upper() == 0) {
+        Affine<N> r = x;
+        r.defined = r.defined && x.defined && !r.is_empty();
+        return r;
+    }
+    return detail::binary_fallback(
+        x, y, [](const UpInterval& a, const UpInterval& b) { return logic_and(a, b); });
+}
+
+/// logic_or: x where x ≠ 0, y where x ≡ 0 (the operand itself); undecided: the Interval logic_or.
+template <int N>
+Affine<N> logic_or(const Affine<N>& x, const Affine<N>& y) {
+    RoundingScope scope;
+    const UpInterval xr = x.range_up();
+    if (!xr.is_empty() && (xr.lower() > 0 || xr.upper() < 0)) {
+        Affine<N> r = x;
+        r.defined = r.defined && x.defined && !r.is_empty();
+        return r;
+    }
+    if (xr.lower() == 0 && xr.upper() == 0) {
+        Affine<N> r = y;
+        r.defined = r.defined && x.defined && !r.is_empty();
+        return r;
+    }
+    return detail::binary_fallback(
+        x, y, [](const UpInterval& a, const UpInterval& b) { return logic_or(a, b); });
+}
+
 static_assert(Enclosure<Affine<1>>);
 static_assert(Enclosure<Affine<3>>);
 

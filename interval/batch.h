@@ -146,6 +146,70 @@ inline auto max(const Batch& a, const Batch& b) {
     return detail::lazy(((a.v > b.v) || a.v.isNaN()).select(a.v, b.v));
 }
 
+// ---- Fidget's further ops (issue 14): lane by lane with the scalar functions run<double> calls.
+/// floor lane by lane (the scalar double function).
+inline Batch floor(const Batch& a) {
+    return detail::lanewise(a, [](double x) { return certray::floor(x); });
+}
+/// ceil lane by lane (the scalar double function).
+inline Batch ceil(const Batch& a) {
+    return detail::lanewise(a, [](double x) { return certray::ceil(x); });
+}
+/// round lane by lane (the scalar double function).
+inline Batch round(const Batch& a) {
+    return detail::lanewise(a, [](double x) { return certray::round(x); });
+}
+/// tan lane by lane (the scalar double function).
+inline Batch tan(const Batch& a) {
+    return detail::lanewise(a, [](double x) { return certray::tan(x); });
+}
+/// asin lane by lane (the scalar double function).
+inline Batch asin(const Batch& a) {
+    return detail::lanewise(a, [](double x) { return certray::asin(x); });
+}
+/// acos lane by lane (the scalar double function).
+inline Batch acos(const Batch& a) {
+    return detail::lanewise(a, [](double x) { return certray::acos(x); });
+}
+/// atan lane by lane (the scalar double function).
+inline Batch atan(const Batch& a) {
+    return detail::lanewise(a, [](double x) { return certray::atan(x); });
+}
+/// logic_not lane by lane (the scalar double function).
+inline Batch logic_not(const Batch& a) {
+    return detail::lanewise(a, [](double x) { return certray::logic_not(x); });
+}
+
+namespace detail {
+/// f lane by lane over two operands.
+template <class F>
+Batch lanewise2(const Batch& a, const Batch& b, F f) {
+    Batch r(a);  // every lane is overwritten
+    for (int k = 0; k < kBatch; ++k) r.v[k] = f(a.v[k], b.v[k]);
+    return r;
+}
+}  // namespace detail
+/// atan2 lane by lane (the scalar double function).
+inline Batch atan2(const Batch& a, const Batch& b) {
+    return detail::lanewise2(a, b, [](double x, double y) { return certray::atan2(x, y); });
+}
+/// compare lane by lane (the scalar double function).
+inline Batch compare(const Batch& a, const Batch& b) {
+    return detail::lanewise2(a, b, [](double x, double y) { return certray::compare(x, y); });
+}
+/// mod lane by lane (the scalar double function).
+inline Batch mod(const Batch& a, const Batch& b) {
+    return detail::lanewise2(a, b, [](double x, double y) { return certray::mod(x, y); });
+}
+/// logic_and lane by lane (the scalar double function).
+inline Batch logic_and(const Batch& a, const Batch& b) {
+    return detail::lanewise2(a, b, [](double x, double y) { return certray::logic_and(x, y); });
+}
+/// logic_or lane by lane (the scalar double function).
+inline Batch logic_or(const Batch& a, const Batch& b) {
+    return detail::lanewise2(a, b, [](double x, double y) { return certray::logic_or(x, y); });
+}
+
 static_assert(Number<Batch>, "Batch must be usable by the expression evaluator");
 
 }  // namespace certray

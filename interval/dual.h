@@ -79,6 +79,19 @@ inline double join(double p, double /*q*/) { return p; }
 /// The derivative where none is finite (sqrt at 0): for doubles NaN.
 inline double unbounded(double) { return std::numeric_limits<double>::quiet_NaN(); }
 
+/// The value is 0 (doubles: plainly; enclosures: the point 0).
+inline bool certainly_zero(double x) { return x == 0; }
+/// The value is not 0 (doubles: plainly, NaN included; enclosures: 0 outside).
+inline bool certainly_nonzero(double x) { return !(x == 0); }
+
+template <Enclosure T>
+bool certainly_zero(const T& x) {
+    return lower(x) == 0 && upper(x) == 0;
+}
+template <Enclosure T>
+bool certainly_nonzero(const T& x) {
+    return lower(x) > 0 || upper(x) < 0;
+}
 template <Enclosure T>
 bool certainly_negative(const T& x) {
     return upper(x) < 0;
@@ -109,6 +122,14 @@ bool certainly_negative(const Dual<T, N>& x) {
 template <class T, int N>
 bool certainly_positive(const Dual<T, N>& x) {
     return certainly_positive(x.a);
+}
+template <class T, int N>
+bool certainly_zero(const Dual<T, N>& x) {
+    return certainly_zero(x.a);
+}
+template <class T, int N>
+bool certainly_nonzero(const Dual<T, N>& x) {
+    return certainly_nonzero(x.a);
 }
 template <class T, int N>
 bool certainly_less(const Dual<T, N>& a, const Dual<T, N>& b) {
@@ -333,6 +354,93 @@ Dual<T, N> max(const Dual<T, N>& f, const Dual<T, N>& g) {
     if (detail::certainly_less(g.a, f.a)) return {m, f.v};
     if (detail::certainly_less(f.a, g.a)) return {m, g.v};
     return {m, detail::join_partials(f.v, g.v)};
+}
+
+// ---- Fidget's further ops (issue 14). The piecewise-constant ones have derivative 0 wherever
+// they are differentiable; where they jump, the value's decoration (not the partials) says so.
+
+/// ⌊f⌋' = 0 (off the jumps)
+template <class T, int N>
+Dual<T, N> floor(const Dual<T, N>& f) {
+    return {floor(f.a), Dual<T, N>::zeros()};
+}
+/// ⌈f⌉' = 0 (off the jumps)
+template <class T, int N>
+Dual<T, N> ceil(const Dual<T, N>& f) {
+    return {ceil(f.a), Dual<T, N>::zeros()};
+}
+/// round(f)' = 0 (off the jumps)
+template <class T, int N>
+Dual<T, N> round(const Dual<T, N>& f) {
+    return {round(f.a), Dual<T, N>::zeros()};
+}
+/// (tan f)' = (1 + tan² f)·f'
+template <class T, int N>
+Dual<T, N> tan(const Dual<T, N>& f) {
+    const T t = tan(f.a);
+    return detail::chain(t, T(T(1.0) + square(t)), f);
+}
+/// (asin f)' = f'/√(1 − f²)  (unbounded at f = ±1, following T's division)
+template <class T, int N>
+Dual<T, N> asin(const Dual<T, N>& f) {
+    return detail::chain(asin(f.a), T(T(1.0) / sqrt(T(T(1.0) - square(f.a)))), f);
+}
+/// (acos f)' = −f'/√(1 − f²)
+template <class T, int N>
+Dual<T, N> acos(const Dual<T, N>& f) {
+    return detail::chain(acos(f.a), T(T(-1.0) / sqrt(T(T(1.0) - square(f.a)))), f);
+}
+/// (atan f)' = f'/(1 + f²)
+template <class T, int N>
+Dual<T, N> atan(const Dual<T, N>& f) {
+    return detail::chain(atan(f.a), T(T(1.0) / T(T(1.0) + square(f.a))), f);
+}
+/// atan2(f, g)' = (g·f' − f·g')/(f² + g²)
+template <class T, int N>
+Dual<T, N> atan2(const Dual<T, N>& f, const Dual<T, N>& g) {
+    const T r2 = square(f.a) + square(g.a);
+    Dual<T, N> r(atan2(f.a, g.a), f.v);
+    for (int i = 0; i < N; ++i) r.v[i] = (g.a * f.v[i] - f.a * g.v[i]) / r2;
+    return r;
+}
+/// compare(f, g)' = 0 (off the jumps)
+template <class T, int N>
+Dual<T, N> compare(const Dual<T, N>& f, const Dual<T, N>& g) {
+    return {compare(f.a, g.a), Dual<T, N>::zeros()};
+}
+/// not(f)' = 0 (off the jumps)
+template <class T, int N>
+Dual<T, N> logic_not(const Dual<T, N>& f) {
+    return {logic_not(f.a), Dual<T, N>::zeros()};
+}
+/// mod(f, g) = f − |g|·k with k = ⌊f/|g|⌋ locally constant: mod' = f' − sgn(g)·k·g' (where g's
+/// sign is not certain, the join of both signs)
+template <class T, int N>
+Dual<T, N> mod(const Dual<T, N>& f, const Dual<T, N>& g) {
+    const T k = floor(T(f.a / abs(g.a)));
+    const T s = detail::certainly_positive(g.a)   ? T(1.0)
+                : detail::certainly_negative(g.a) ? T(-1.0)
+                                                  : detail::join(T(1.0), T(-1.0));
+    const T sk = s * k;
+    Dual<T, N> r(mod(f.a, g.a), f.v);
+    for (int i = 0; i < N; ++i) r.v[i] = f.v[i] - sk * g.v[i];
+    return r;
+}
+/// and(f, g)' = f' where f = 0, g' where f ≠ 0; undecided: join(f', g')
+template <class T, int N>
+Dual<T, N> logic_and(const Dual<T, N>& f, const Dual<T, N>& g) {
+    const T v = logic_and(f.a, g.a);
+    if (detail::certainly_zero(f.a)) return {v, f.v};
+    if (detail::certainly_nonzero(f.a)) return {v, g.v};
+    return {v, detail::join_partials(f.v, g.v)};
+}
+/// or(f, g)' = f' where f ≠ 0, g' where f = 0; undecided: join(f', g')
+template <class T, int N>
+Dual<T, N> logic_or(const Dual<T, N>& f, const Dual<T, N>& g) {
+    const T v = logic_or(f.a, g.a);
+    if (detail::certainly_nonzero(f.a)) return {v, f.v};
+    if (detail::certainly_zero(f.a)) return {v, g.v};
+    return {v, detail::join_partials(f.v, g.v)};
 }
 
 }  // namespace certray

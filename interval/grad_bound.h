@@ -252,4 +252,80 @@ inline GradBound max(const GradBound& a, const GradBound& b) {
     return detail::choose(a, b, max(a.d, b.d));
 }
 
+// ---- Fidget's further ops (issue 14) ----------------------------------------------------------
+
+namespace detail {
+/// A piecewise-constant result: Lipschitz 0 where it does not jump on the box (then it is
+/// constant there), +inf where it may.
+inline GradBound piecewise_constant(const GradBound::D& d) {
+    return bounded(d, d.a.defined ? 0.0 : GradBound::kInf);
+}
+/// φ(u) for a smooth φ with |φ′| ≤ magnitude(dphi) on the range: Lipschitz |φ′|·lip(u).
+inline GradBound smooth(const GradBound::D& d, const UpInterval& dphi, double lip) {
+    return bounded(d, mul_bound(magnitude(dphi), lip));
+}
+}  // namespace detail
+
+/// ⌊u⌋, ⌈u⌉, round(u), not(u): constant where they do not jump (Lipschitz 0), else +inf.
+inline GradBound floor(const GradBound& a) { return detail::piecewise_constant(floor(a.d)); }
+inline GradBound ceil(const GradBound& a) { return detail::piecewise_constant(ceil(a.d)); }
+inline GradBound round(const GradBound& a) { return detail::piecewise_constant(round(a.d)); }
+inline GradBound logic_not(const GradBound& a) {
+    return detail::piecewise_constant(logic_not(a.d));
+}
+inline GradBound compare(const GradBound& a, const GradBound& b) {
+    return detail::piecewise_constant(compare(a.d, b.d));
+}
+
+/// |tan′| = 1 + tan², bounded on the box (+inf across a pole).
+inline GradBound tan(const GradBound& a) {
+    const GradBound::D d = tan(a.d);
+    return detail::smooth(d, UpInterval(1.0) + square(d.a), a.lip);
+}
+/// |asin′| = |acos′| = 1/√(1 − u²) (+inf where |u| may reach 1).
+inline GradBound asin(const GradBound& a) {
+    return detail::smooth(asin(a.d), UpInterval(1.0) / sqrt(UpInterval(1.0) - square(a.d.a)),
+                          a.lip);
+}
+inline GradBound acos(const GradBound& a) {
+    return detail::smooth(acos(a.d), UpInterval(1.0) / sqrt(UpInterval(1.0) - square(a.d.a)),
+                          a.lip);
+}
+/// |atan′| ≤ 1.
+inline GradBound atan(const GradBound& a) { return detail::bounded(atan(a.d), a.lip); }
+
+/// ‖∇atan2(y, x)‖ ≤ (lip y + lip x)/r with r = |(x, y)| bounded below on the box; +inf where
+/// it jumps (the branch cut) or r may be 0.
+inline GradBound atan2(const GradBound& y, const GradBound& x) {
+    const GradBound::D d = atan2(y.d, x.d);
+    if (!d.a.defined) return detail::bounded(d, GradBound::kInf);
+    const UpInterval inv_r = UpInterval(1.0) / sqrt(square(y.d.a) + square(x.d.a));
+    return detail::smooth(d, inv_r, y.lip + x.lip);
+}
+
+/// mod(a, b) = a − |b|·k with k constant where it does not jump: lip a + |k|·lip b; else +inf.
+inline GradBound mod(const GradBound& a, const GradBound& b) {
+    const GradBound::D d = mod(a.d, b.d);
+    if (!d.a.defined) return detail::bounded(d, GradBound::kInf);
+    const UpInterval k = floor(UpInterval(a.d.a / abs(b.d.a)));
+    return detail::bounded(d, a.lip + detail::mul_bound(detail::magnitude(k), b.lip));
+}
+
+/// and/or: the selected operand's bound where the first operand decides on the box; else +inf
+/// unless the result is continuous (then both operands' bounds).
+inline GradBound logic_and(const GradBound& a, const GradBound& b) {
+    const GradBound::D d = logic_and(a.d, b.d);
+    const UpInterval& x = a.d.a;
+    if (x.lower() > 0 || x.upper() < 0) return detail::bounded(d, b.lip);
+    if (x.lower() == 0 && x.upper() == 0) return detail::bounded(d, a.lip);
+    return detail::bounded(d, d.a.defined ? std::max(a.lip, b.lip) : GradBound::kInf);
+}
+inline GradBound logic_or(const GradBound& a, const GradBound& b) {
+    const GradBound::D d = logic_or(a.d, b.d);
+    const UpInterval& x = a.d.a;
+    if (x.lower() > 0 || x.upper() < 0) return detail::bounded(d, a.lip);
+    if (x.lower() == 0 && x.upper() == 0) return detail::bounded(d, b.lip);
+    return detail::bounded(d, d.a.defined ? std::max(a.lip, b.lip) : GradBound::kInf);
+}
+
 }  // namespace certray

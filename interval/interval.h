@@ -764,3 +764,5 @@ template <class M>
 }
 
 }  // namespace certray
+
+#include "interval/interval_ext.h"  // IWYU pragma: export

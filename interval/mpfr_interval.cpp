@@ -565,4 +565,190 @@ bool contains(const MpfrInterval& x, double v) {
            mpfr_cmp_d(x.hi(), v) >= 0;
 }
 
+// ---- Fidget's further ops (issue 14) ---------------------------------------------------------
+
+namespace {
+
+/// [f(a) ↓, f(b) ↑] for f ∈ {floor, ceil, round} (mpfr_rint_*); defined iff both are exact and
+/// equal.
+template <class F>
+MpfrInterval integer_step(const MpfrInterval& x, F f) {
+    const mpfr_prec_t prec = x.precision();
+    if (x.is_empty()) return empty_at(prec);
+    MpfrInterval r = MpfrAccess::make(prec);
+    const int tl = f(MpfrAccess::lo(r), x.lo(), MPFR_RNDD);
+    const int th = f(MpfrAccess::hi(r), x.hi(), MPFR_RNDU);
+    r.defined =
+        x.defined && tl == 0 && th == 0 && mpfr_equal_p(MpfrAccess::lo(r), MpfrAccess::hi(r));
+    return r;
+}
+
+bool may_be_zero(const MpfrInterval& x) { return nonpos(x.lo()) && nonneg(x.hi()); }
+bool is_zero(const MpfrInterval& x) { return mpfr_zero_p(x.lo()) && mpfr_zero_p(x.hi()); }
+
+MpfrInterval with_decoration(MpfrInterval x, bool def) {
+    x.defined = def && !x.is_empty();
+    return x;
+}
+
+/// [lo, hi] from two integers.
+MpfrInterval integers(long lo, long hi, mpfr_prec_t prec, bool def) {
+    MpfrInterval r = MpfrAccess::make(prec);
+    mpfr_set_si(MpfrAccess::lo(r), lo, MPFR_RNDD);
+    mpfr_set_si(MpfrAccess::hi(r), hi, MPFR_RNDU);
+    r.defined = def;
+    return r;
+}
+
+/// [−π, π] (outward), not defined.
+MpfrInterval full_angle(mpfr_prec_t prec) {
+    MpfrInterval r = MpfrAccess::make(prec);
+    mpfr_const_pi(MpfrAccess::hi(r), MPFR_RNDU);
+    mpfr_neg(MpfrAccess::lo(r), MpfrAccess::hi(r), MPFR_RNDD);
+    r.defined = false;
+    return r;
+}
+
+/// π as an interval at prec.
+MpfrInterval pi_interval(mpfr_prec_t prec) {
+    MpfrInterval r = MpfrAccess::make(prec);
+    mpfr_const_pi(MpfrAccess::lo(r), MPFR_RNDD);
+    mpfr_const_pi(MpfrAccess::hi(r), MPFR_RNDU);
+    r.defined = true;
+    return r;
+}
+
+/// The point v (exact) at prec.
+MpfrInterval point(mpfr_srcptr v, mpfr_prec_t prec) { return from_bounds(v, v, prec, true); }
+
+}  // namespace
+
+MpfrInterval floor(const MpfrInterval& x) { return integer_step(x, mpfr_rint_floor); }
+MpfrInterval ceil(const MpfrInterval& x) { return integer_step(x, mpfr_rint_ceil); }
+MpfrInterval round(const MpfrInterval& x) { return integer_step(x, mpfr_rint_round); }
+
+MpfrInterval tan(const MpfrInterval& x) {
+    const mpfr_prec_t prec = x.precision();
+    if (x.is_empty()) return empty_at(prec);
+    MpfrInterval whole = MpfrInterval::entire(Precision{prec});
+    whole.defined = false;
+    if (!mpfr_number_p(x.lo()) || !mpfr_number_p(x.hi())) return whole;
+    // k(t) = (t − π/2)/π: no pole in [a, b] iff one integer n has n < k(a) ≤ k(b) < n + 1. The
+    // bounds are rational, the poles not: n = ⌊lower(k(a))⌋ and upper(k(b)) ≤ n + 1 suffice.
+    const MpfrInterval pi = pi_interval(prec);
+    const MpfrInterval half(0.5, Precision{prec});
+    const MpfrInterval ka = point(x.lo(), prec) / pi - half;
+    const MpfrInterval kb = point(x.hi(), prec) / pi - half;
+    Scratch n(prec);
+    mpfr_floor(n, ka.lo());
+    mpfr_add_ui(n, n, 1, MPFR_RNDD);  // exact: an integer far below 2^prec
+    if (!(mpfr_cmp(kb.hi(), n) <= 0)) return whole;
+    return monotone(x, mpfr_tan);
+}
+
+MpfrInterval asin(const MpfrInterval& x) {
+    const mpfr_prec_t prec = x.precision();
+    const MpfrInterval dom(-1.0, 1.0, Precision{prec});
+    const MpfrInterval c = intersect(x, dom);
+    if (c.is_empty()) return empty_at(prec);
+    MpfrInterval r = monotone(c, mpfr_asin);
+    r.defined = x.defined && mpfr_cmp_si(x.lo(), -1) >= 0 && mpfr_cmp_si(x.hi(), 1) <= 0;
+    return r;
+}
+
+MpfrInterval acos(const MpfrInterval& x) {
+    const mpfr_prec_t prec = x.precision();
+    const MpfrInterval dom(-1.0, 1.0, Precision{prec});
+    const MpfrInterval c = intersect(x, dom);
+    if (c.is_empty()) return empty_at(prec);
+    MpfrInterval r = MpfrAccess::make(prec);
+    mpfr_acos(MpfrAccess::lo(r), c.hi(), MPFR_RNDD);
+    mpfr_acos(MpfrAccess::hi(r), c.lo(), MPFR_RNDU);
+    r.defined = x.defined && mpfr_cmp_si(x.lo(), -1) >= 0 && mpfr_cmp_si(x.hi(), 1) <= 0;
+    return r;
+}
+
+MpfrInterval atan(const MpfrInterval& x) { return monotone(x, mpfr_atan); }
+
+MpfrInterval atan2(const MpfrInterval& y, const MpfrInterval& x) {
+    const mpfr_prec_t prec = join_precision(y, x);
+    if (y.is_empty() || x.is_empty()) return empty_at(prec);
+    if (may_be_zero(y) && may_be_zero(x)) {
+        return is_zero(y) && is_zero(x) ? empty_at(prec) : full_angle(prec);
+    }
+    if (mpfr_sgn(x.lo()) < 0 && mpfr_sgn(y.lo()) < 0 && nonneg(y.hi())) return full_angle(prec);
+    MpfrInterval r = MpfrAccess::make(prec);
+    mpfr_ptr lo = MpfrAccess::lo(r);
+    mpfr_ptr hi = MpfrAccess::hi(r);
+    mpfr_set_inf(lo, 1);
+    mpfr_set_inf(hi, -1);
+    Scratch yc(prec), v(prec);
+    for (mpfr_srcptr ys : {y.lo(), y.hi()}) {
+        mpfr_set(yc, ys, MPFR_RNDN);                // exact: same or larger precision
+        if (mpfr_zero_p(yc)) mpfr_set_zero(yc, 1);  // the real atan2(0, x < 0) is π
+        for (mpfr_srcptr xs : {x.lo(), x.hi()}) {
+            mpfr_atan2(v, yc, xs, MPFR_RNDD);
+            mpfr_min(lo, lo, v, MPFR_RNDD);
+            mpfr_atan2(v, yc, xs, MPFR_RNDU);
+            mpfr_max(hi, hi, v, MPFR_RNDU);
+        }
+    }
+    r.defined = y.defined && x.defined;
+    return r;
+}
+
+MpfrInterval compare(const MpfrInterval& a, const MpfrInterval& b) {
+    const mpfr_prec_t prec = join_precision(a, b);
+    if (a.is_empty() || b.is_empty()) return empty_at(prec);
+    const bool lt = mpfr_less_p(a.lo(), b.hi()) != 0, gt = mpfr_greater_p(a.hi(), b.lo()) != 0;
+    const bool eq = mpfr_lessequal_p(a.lo(), b.hi()) && mpfr_lessequal_p(b.lo(), a.hi());
+    const long lo = lt ? -1 : (eq ? 0 : 1), hi = gt ? 1 : (eq ? 0 : -1);
+    return integers(lo, hi, prec, a.defined && b.defined && lo == hi);
+}
+
+MpfrInterval mod(const MpfrInterval& a, const MpfrInterval& b) {
+    const mpfr_prec_t prec = join_precision(a, b);
+    if (a.is_empty() || b.is_empty()) return empty_at(prec);
+    const MpfrInterval m = abs(b);
+    if (mpfr_zero_p(m.hi())) return empty_at(prec);
+    MpfrInterval range = MpfrAccess::make(prec);
+    mpfr_set_zero(MpfrAccess::lo(range), 1);
+    mpfr_set(MpfrAccess::hi(range), m.hi(), MPFR_RNDU);
+    range.defined = false;
+    if (mpfr_zero_p(m.lo()) || !mpfr_number_p(a.lo()) || !mpfr_number_p(a.hi())) return range;
+    const MpfrInterval q = a / m;
+    if (!mpfr_number_p(q.lo()) || !mpfr_number_p(q.hi())) return range;
+    Scratch n(prec), n2(prec);
+    mpfr_floor(n, q.lo());
+    mpfr_floor(n2, q.hi());
+    if (!mpfr_equal_p(n, n2)) return range;
+    const MpfrInterval r = intersect(a - m * point(n, prec), range);
+    return with_decoration(r, a.defined && b.defined);
+}
+
+MpfrInterval logic_and(const MpfrInterval& a, const MpfrInterval& b) {
+    const mpfr_prec_t prec = join_precision(a, b);
+    if (a.is_empty()) return empty_at(prec);
+    if (!may_be_zero(a)) return with_decoration(b, a.defined && b.defined);
+    if (is_zero(a)) return a;
+    const MpfrInterval zero(0.0, Precision{prec});
+    return with_decoration(b.is_empty() ? zero : hull(zero, b), false);
+}
+
+MpfrInterval logic_or(const MpfrInterval& a, const MpfrInterval& b) {
+    const mpfr_prec_t prec = join_precision(a, b);
+    if (a.is_empty()) return empty_at(prec);
+    if (!may_be_zero(a)) return a;
+    if (is_zero(a)) return with_decoration(b, a.defined && b.defined);
+    return with_decoration(b.is_empty() ? a : hull(a, b), false);
+}
+
+MpfrInterval logic_not(const MpfrInterval& a) {
+    const mpfr_prec_t prec = a.precision();
+    if (a.is_empty()) return empty_at(prec);
+    if (is_zero(a)) return integers(1, 1, prec, a.defined);
+    if (!may_be_zero(a)) return integers(0, 0, prec, a.defined);
+    return integers(0, 1, prec, false);
+}
+
 }  // namespace certray

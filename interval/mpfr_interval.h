@@ -123,6 +123,30 @@ MpfrInterval& operator/=(MpfrInterval& x, const MpfrInterval& y);
 
 // Elementary functions.
 
+/// ⌊x⌋, ⌈x⌉, x rounded half away from 0: [f(a) ↓, f(b) ↑]; defined iff f(a) = f(b) (constant).
+MpfrInterval floor(const MpfrInterval& x);
+MpfrInterval ceil(const MpfrInterval& x);
+MpfrInterval round(const MpfrInterval& x);
+/// tan x: [tan a ↓, tan b ↑] when no pole π/2 + nπ lies in [a, b]; else E, not defined.
+MpfrInterval tan(const MpfrInterval& x);
+/// asin, acos on x ∩ [−1, 1] (e if disjoint); defined iff x ⊆ [−1, 1].
+MpfrInterval asin(const MpfrInterval& x);
+MpfrInterval acos(const MpfrInterval& x);
+/// atan x (increasing).
+MpfrInterval atan(const MpfrInterval& x);
+/// atan2(y, x) ∈ (−π, π]: e for {(0,0)}; [−π, π] not defined when the box holds the origin or
+/// meets the negative x axis with y < 0 points; else the hull of the corner angles.
+MpfrInterval atan2(const MpfrInterval& y, const MpfrInterval& x);
+/// −1, 0, 1 as a < b, a = b, a > b: the hull of the possible values; defined iff one value.
+MpfrInterval compare(const MpfrInterval& a, const MpfrInterval& b);
+/// a − |b|·⌊a/|b|⌋: exact formula where ⌊a/|b|⌋ is constant on the box (defined), else
+/// [0, max |b|] not defined; e when b ≡ 0.
+MpfrInterval mod(const MpfrInterval& a, const MpfrInterval& b);
+/// a if a = 0 else b; a if a ≠ 0 else b; 1 if a = 0 else 0 (see interval/interval_ext.h).
+MpfrInterval logic_and(const MpfrInterval& a, const MpfrInterval& b);
+MpfrInterval logic_or(const MpfrInterval& a, const MpfrInterval& b);
+MpfrInterval logic_not(const MpfrInterval& a);
+
 /// |x| ⊇ {|a|}. a ≥ 0 → x;  b ≤ 0 → −x;  a < 0 < b → [0, max(−a, b)].
 MpfrInterval abs(const MpfrInterval& x);
 /// x² ⊇ {a²} (tighter than x·x). a ≥ 0 → [a², b²];  b ≤ 0 → [b², a²];  else [0, max(a², b²)].

@@ -8,15 +8,24 @@
 #include <algorithm>
 #include <cmath>
 #include <concepts>
+#include <limits>
 
 namespace certray {
 
 using std::abs;
+using std::acos;
+using std::asin;
+using std::atan;
+using std::atan2;
+using std::ceil;
 using std::cos;
 using std::exp;
+using std::floor;
 using std::log;
+using std::round;
 using std::sin;
 using std::sqrt;
+using std::tan;
 
 /// min for doubles, propagating NaN: a point where an operand is undefined stays undefined
 /// (std::min(x, NaN) would return x and hide it).
@@ -35,6 +44,22 @@ inline double pow(double x, unsigned n) {
     }
     return r;
 }
+/// Fidget's compare: −1 if a < b, 0 if a = b, 1 if a > b, NaN if either is NaN.
+inline double compare(double a, double b) {
+    return a < b ? -1.0 : (a > b ? 1.0 : (a == b ? 0.0 : std::numeric_limits<double>::quiet_NaN()));
+}
+/// Euclidean remainder (Rust's rem_euclid, Fidget's mod): r = fmod(a, b) (exact), r + |b| when
+/// r < 0 (one rounding); NaN for b = 0.
+inline double mod(double a, double b) {
+    const double r = std::fmod(a, b);
+    return r < 0 ? r + std::fabs(b) : r;
+}
+/// Fidget's and: a if a = 0, else b (NaN a selects b).
+inline double logic_and(double a, double b) { return a == 0 ? a : b; }
+/// Fidget's or: a if a ≠ 0 (NaN included), else b.
+inline double logic_or(double a, double b) { return a != 0 ? a : b; }
+/// Fidget's not: 1 if a = 0, else 0 (NaN gives 0).
+inline double logic_not(double a) { return a == 0 ? 1.0 : 0.0; }
 inline double lower(double x) { return x; }
 inline double upper(double x) { return x; }
 
@@ -58,6 +83,19 @@ concept Number = std::copyable<T> && requires(const T& a, const T& b, double c, 
     { cos(a) } -> std::convertible_to<T>;
     { min(a, b) } -> std::convertible_to<T>;
     { max(a, b) } -> std::convertible_to<T>;
+    { floor(a) } -> std::convertible_to<T>;
+    { ceil(a) } -> std::convertible_to<T>;
+    { round(a) } -> std::convertible_to<T>;
+    { tan(a) } -> std::convertible_to<T>;
+    { asin(a) } -> std::convertible_to<T>;
+    { acos(a) } -> std::convertible_to<T>;
+    { atan(a) } -> std::convertible_to<T>;
+    { logic_not(a) } -> std::convertible_to<T>;
+    { atan2(a, b) } -> std::convertible_to<T>;
+    { compare(a, b) } -> std::convertible_to<T>;
+    { mod(a, b) } -> std::convertible_to<T>;
+    { logic_and(a, b) } -> std::convertible_to<T>;
+    { logic_or(a, b) } -> std::convertible_to<T>;
 };
 
 /// A Number that encloses sets of reals: it has bounds and a decoration saying the function that

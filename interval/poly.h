@@ -356,4 +356,98 @@ Poly<T> max(const Poly<T>& a, const Poly<T>& b) {
     return r;
 }
 
+// ---- Fidget's further ops (issue 14): not polynomial; T's op on constants, else invalid --------
+
+namespace detail {
+/// Applies f to the constants of two degree-0 arguments; anything else is invalid.
+template <class T, class F>
+Poly<T> poly_binary_constant(const Poly<T>& a, const Poly<T>& b, F f) {
+    Poly<T> r = poly_from(a, b);
+    if (!r.valid || a.degree != 0 || b.degree != 0) return Poly<T>::invalid();
+    r.c[0] = f(a.c[0], b.c[0]);
+    r.valid = is_defined(r.c[0]);
+    return r;
+}
+}  // namespace detail
+
+/// floor of a constant; else invalid (not a polynomial).
+template <class T>
+Poly<T> floor(const Poly<T>& a) {
+    return detail::poly_unary_constant(a, [](const T& x) { return floor(x); });
+}
+
+/// ceil of a constant; else invalid (not a polynomial).
+template <class T>
+Poly<T> ceil(const Poly<T>& a) {
+    return detail::poly_unary_constant(a, [](const T& x) { return ceil(x); });
+}
+
+/// round of a constant; else invalid (not a polynomial).
+template <class T>
+Poly<T> round(const Poly<T>& a) {
+    return detail::poly_unary_constant(a, [](const T& x) { return round(x); });
+}
+
+/// tan of a constant; else invalid (not a polynomial).
+template <class T>
+Poly<T> tan(const Poly<T>& a) {
+    return detail::poly_unary_constant(a, [](const T& x) { return tan(x); });
+}
+
+/// asin of a constant; else invalid (not a polynomial).
+template <class T>
+Poly<T> asin(const Poly<T>& a) {
+    return detail::poly_unary_constant(a, [](const T& x) { return asin(x); });
+}
+
+/// acos of a constant; else invalid (not a polynomial).
+template <class T>
+Poly<T> acos(const Poly<T>& a) {
+    return detail::poly_unary_constant(a, [](const T& x) { return acos(x); });
+}
+
+/// atan of a constant; else invalid (not a polynomial).
+template <class T>
+Poly<T> atan(const Poly<T>& a) {
+    return detail::poly_unary_constant(a, [](const T& x) { return atan(x); });
+}
+
+/// logic_not of a constant; else invalid (not a polynomial).
+template <class T>
+Poly<T> logic_not(const Poly<T>& a) {
+    return detail::poly_unary_constant(a, [](const T& x) { return logic_not(x); });
+}
+
+/// atan2 of two constants; else invalid (not a polynomial).
+template <class T>
+Poly<T> atan2(const Poly<T>& a, const Poly<T>& b) {
+    return detail::poly_binary_constant(a, b, [](const T& x, const T& y) { return atan2(x, y); });
+}
+
+/// compare of two constants; else invalid (not a polynomial).
+template <class T>
+Poly<T> compare(const Poly<T>& a, const Poly<T>& b) {
+    return detail::poly_binary_constant(a, b, [](const T& x, const T& y) { return compare(x, y); });
+}
+
+/// mod of two constants; else invalid (not a polynomial).
+template <class T>
+Poly<T> mod(const Poly<T>& a, const Poly<T>& b) {
+    return detail::poly_binary_constant(a, b, [](const T& x, const T& y) { return mod(x, y); });
+}
+
+/// logic_and of two constants; else invalid (not a polynomial).
+template <class T>
+Poly<T> logic_and(const Poly<T>& a, const Poly<T>& b) {
+    return detail::poly_binary_constant(a, b,
+                                        [](const T& x, const T& y) { return logic_and(x, y); });
+}
+
+/// logic_or of two constants; else invalid (not a polynomial).
+template <class T>
+Poly<T> logic_or(const Poly<T>& a, const Poly<T>& b) {
+    return detail::poly_binary_constant(a, b,
+                                        [](const T& x, const T& y) { return logic_or(x, y); });
+}
+
 }  // namespace certray

@@ -788,4 +788,103 @@ TaylorModel<D> max(const TaylorModel<D>& a, const TaylorModel<D>& b) {
     return detail::tm_minmax(a, b, false);
 }
 
+// ---- Fidget's further ops (issue 14): the Interval operation on the range, as a model with a
+// constant polynomial part (no Taylor expansion)
+// ---------------------------------------------------
+
+/// floor: the Interval floor of the range.
+template <int D>
+TaylorModel<D> floor(const TaylorModel<D>& a) {
+    RoundingScope scope;
+    return detail::tm_from<D>(floor(detail::tm_range(a)), a.dom);
+}
+
+/// ceil: the Interval ceil of the range.
+template <int D>
+TaylorModel<D> ceil(const TaylorModel<D>& a) {
+    RoundingScope scope;
+    return detail::tm_from<D>(ceil(detail::tm_range(a)), a.dom);
+}
+
+/// round: the Interval round of the range.
+template <int D>
+TaylorModel<D> round(const TaylorModel<D>& a) {
+    RoundingScope scope;
+    return detail::tm_from<D>(round(detail::tm_range(a)), a.dom);
+}
+
+/// tan: the Interval tan of the range.
+template <int D>
+TaylorModel<D> tan(const TaylorModel<D>& a) {
+    RoundingScope scope;
+    return detail::tm_from<D>(tan(detail::tm_range(a)), a.dom);
+}
+
+/// asin: the Interval asin of the range.
+template <int D>
+TaylorModel<D> asin(const TaylorModel<D>& a) {
+    RoundingScope scope;
+    return detail::tm_from<D>(asin(detail::tm_range(a)), a.dom);
+}
+
+/// acos: the Interval acos of the range.
+template <int D>
+TaylorModel<D> acos(const TaylorModel<D>& a) {
+    RoundingScope scope;
+    return detail::tm_from<D>(acos(detail::tm_range(a)), a.dom);
+}
+
+/// atan: the Interval atan of the range.
+template <int D>
+TaylorModel<D> atan(const TaylorModel<D>& a) {
+    RoundingScope scope;
+    return detail::tm_from<D>(atan(detail::tm_range(a)), a.dom);
+}
+
+/// logic_not: the Interval logic_not of the range.
+template <int D>
+TaylorModel<D> logic_not(const TaylorModel<D>& a) {
+    RoundingScope scope;
+    return detail::tm_from<D>(logic_not(detail::tm_range(a)), a.dom);
+}
+
+/// atan2: the Interval atan2 of the ranges.
+template <int D>
+TaylorModel<D> atan2(const TaylorModel<D>& a, const TaylorModel<D>& b) {
+    RoundingScope scope;
+    return detail::tm_from<D>(atan2(detail::tm_range(a), detail::tm_range(b)),
+                              detail::tm_dom(a, b));
+}
+
+/// compare: the Interval compare of the ranges.
+template <int D>
+TaylorModel<D> compare(const TaylorModel<D>& a, const TaylorModel<D>& b) {
+    RoundingScope scope;
+    return detail::tm_from<D>(compare(detail::tm_range(a), detail::tm_range(b)),
+                              detail::tm_dom(a, b));
+}
+
+/// mod: the Interval mod of the ranges.
+template <int D>
+TaylorModel<D> mod(const TaylorModel<D>& a, const TaylorModel<D>& b) {
+    RoundingScope scope;
+    return detail::tm_from<D>(mod(detail::tm_range(a), detail::tm_range(b)), detail::tm_dom(a, b));
+}
+
+/// logic_and: the Interval logic_and of the ranges.
+template <int D>
+TaylorModel<D> logic_and(const TaylorModel<D>& a, const TaylorModel<D>& b) {
+    RoundingScope scope;
+    return detail::tm_from<D>(logic_and(detail::tm_range(a), detail::tm_range(b)),
+                              detail::tm_dom(a, b));
+}
+
+/// logic_or: the Interval logic_or of the ranges.
+template <int D>
+TaylorModel<D> logic_or(const TaylorModel<D>& a, const TaylorModel<D>& b) {
+    RoundingScope scope;
+    return detail::tm_from<D>(logic_or(detail::tm_range(a), detail::tm_range(b)),
+                              detail::tm_dom(a, b));
+}
+
 }  // namespace certray

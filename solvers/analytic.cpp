@@ -111,7 +111,31 @@ std::string why_not_polynomial(const expr::Tape& tape) {
             case expr::Op::Log:
             case expr::Op::Sin:
             case expr::Op::Cos:
+            case expr::Op::Floor:
+            case expr::Op::Ceil:
+            case expr::Op::Round:
+            case expr::Op::Tan:
+            case expr::Op::Asin:
+            case expr::Op::Acos:
+            case expr::Op::Atan:
+            case expr::Op::Not:
                 if (va) {
+                    return std::string(expr::name(in.op)) + " of a non-constant (instruction " +
+                           std::to_string(i + 1) + " of " + std::to_string(ssa.size()) + ")";
+                }
+                break;
+            case expr::Op::Recip:
+                if (va) {
+                    return "recip of a non-constant (instruction " + std::to_string(i + 1) +
+                           " of " + std::to_string(ssa.size()) + ")";
+                }
+                break;
+            case expr::Op::Atan2:
+            case expr::Op::Compare:
+            case expr::Op::Mod:
+            case expr::Op::And:
+            case expr::Op::Or:
+                if (va || vb) {
                     return std::string(expr::name(in.op)) + " of a non-constant (instruction " +
                            std::to_string(i + 1) + " of " + std::to_string(ssa.size()) + ")";
                 }

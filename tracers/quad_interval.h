@@ -117,4 +117,62 @@ inline QuadInterval max(const QuadInterval& a, const QuadInterval& b) {
         a, b, [](const UpInterval& x, const UpInterval& y) { return certray::max(x, y); });
 }
 
+/// floor lane by lane.
+inline QuadInterval floor(const QuadInterval& a) {
+    return detail::lanes(a, [](const UpInterval& x) { return certray::floor(x); });
+}
+/// ceil lane by lane.
+inline QuadInterval ceil(const QuadInterval& a) {
+    return detail::lanes(a, [](const UpInterval& x) { return certray::ceil(x); });
+}
+/// round lane by lane.
+inline QuadInterval round(const QuadInterval& a) {
+    return detail::lanes(a, [](const UpInterval& x) { return certray::round(x); });
+}
+/// tan lane by lane.
+inline QuadInterval tan(const QuadInterval& a) {
+    return detail::lanes(a, [](const UpInterval& x) { return certray::tan(x); });
+}
+/// asin lane by lane.
+inline QuadInterval asin(const QuadInterval& a) {
+    return detail::lanes(a, [](const UpInterval& x) { return certray::asin(x); });
+}
+/// acos lane by lane.
+inline QuadInterval acos(const QuadInterval& a) {
+    return detail::lanes(a, [](const UpInterval& x) { return certray::acos(x); });
+}
+/// atan lane by lane.
+inline QuadInterval atan(const QuadInterval& a) {
+    return detail::lanes(a, [](const UpInterval& x) { return certray::atan(x); });
+}
+/// logic_not lane by lane.
+inline QuadInterval logic_not(const QuadInterval& a) {
+    return detail::lanes(a, [](const UpInterval& x) { return certray::logic_not(x); });
+}
+/// atan2 lane by lane.
+inline QuadInterval atan2(const QuadInterval& a, const QuadInterval& b) {
+    return detail::lanes(
+        a, b, [](const UpInterval& x, const UpInterval& y) { return certray::atan2(x, y); });
+}
+/// compare lane by lane.
+inline QuadInterval compare(const QuadInterval& a, const QuadInterval& b) {
+    return detail::lanes(
+        a, b, [](const UpInterval& x, const UpInterval& y) { return certray::compare(x, y); });
+}
+/// mod lane by lane.
+inline QuadInterval mod(const QuadInterval& a, const QuadInterval& b) {
+    return detail::lanes(
+        a, b, [](const UpInterval& x, const UpInterval& y) { return certray::mod(x, y); });
+}
+/// logic_and lane by lane.
+inline QuadInterval logic_and(const QuadInterval& a, const QuadInterval& b) {
+    return detail::lanes(
+        a, b, [](const UpInterval& x, const UpInterval& y) { return certray::logic_and(x, y); });
+}
+/// logic_or lane by lane.
+inline QuadInterval logic_or(const QuadInterval& a, const QuadInterval& b) {
+    return detail::lanes(
+        a, b, [](const UpInterval& x, const UpInterval& y) { return certray::logic_or(x, y); });
+}
+
 }  // namespace certray::tracers

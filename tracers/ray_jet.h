@@ -289,6 +289,89 @@ RayJet max(const RayJet& u, const RayJet& w) {
     return r;
 }
 
+// ---- Fidget's further ops (issue 14) ----------------------------------------------------------
+
+/// A result whose derivatives are not tracked: values by the interval op, derivatives the whole
+/// line and a kink anywhere (not smooth), unless every operand is constant.
+RayJet untracked(bool constant_operands, const I& p0, const I& v, const I& vt) {
+    if (constant_operands) return constant(p0, v, vt);
+    RayJet r;
+    r.c = false;
+    r.p0 = p0;
+    r.v = v;
+    r.vt = vt;
+    r.p1 = r.d1 = r.d2 = r.k = I::entire();
+    return r;
+}
+/// A piecewise-constant result: constant (zero derivatives, no kink) where its segment enclosure
+/// is continuous on T, else untracked.
+RayJet flat(bool constant_operands, const I& p0, const I& v, const I& vt) {
+    if (constant_operands || !v.defined || !p0.defined)
+        return untracked(constant_operands, p0, v, vt);
+    RayJet r = constant(p0, v, vt);
+    r.c = false;
+    return r;
+}
+RayJet floor(const RayJet& u) { return flat(u.c, floor(u.p0), floor(u.v), floor(u.vt)); }
+RayJet ceil(const RayJet& u) { return flat(u.c, ceil(u.p0), ceil(u.v), ceil(u.vt)); }
+RayJet round(const RayJet& u) { return flat(u.c, round(u.p0), round(u.v), round(u.vt)); }
+RayJet logic_not(const RayJet& u) {
+    return flat(u.c, logic_not(u.p0), logic_not(u.v), logic_not(u.vt));
+}
+RayJet compare(const RayJet& u, const RayJet& w) {
+    return flat(u.c && w.c, compare(u.p0, w.p0), compare(u.v, w.v), compare(u.vt, w.vt));
+}
+/// (tan u)′ = (1 + tan²u)·u′, (tan u)″ = 2·tan u·(1 + tan²u)·u′² + (1 + tan²u)·u″.
+RayJet tan(const RayJet& u) {
+    if (u.c) return constant(tan(u.p0), tan(u.v), tan(u.vt));
+    const I t = tan(u.v), s1 = 1.0 + square(t), tk = tan(u.k);
+    return chain(u, tan(u.p0), 1.0 + square(tan(u.p0)), t, s1, 2.0 * t * s1, tan(u.vt), tk,
+                 1.0 + square(tk));
+}
+/// (atan u)′ = 1/(1 + u²), (atan u)″ = −2u/(1 + u²)².
+RayJet atan(const RayJet& u) {
+    if (u.c) return constant(atan(u.p0), atan(u.v), atan(u.vt));
+    const I s1 = 1.0 / (1.0 + square(u.v));
+    return chain(u, atan(u.p0), 1.0 / (1.0 + square(u.p0)), atan(u.v), s1, -2.0 * u.v * square(s1),
+                 atan(u.vt), atan(u.k), 1.0 / (1.0 + square(u.k)));
+}
+/// (asin u)′ = 1/√(1 − u²), (asin u)″ = u/(1 − u²)^{3/2}; acos: the negatives.
+RayJet asin_acos(const RayJet& u, bool is_acos) {
+    const auto f = [is_acos](const I& x) { return is_acos ? acos(x) : asin(x); };
+    if (u.c) return constant(f(u.p0), f(u.v), f(u.vt));
+    const double sign = is_acos ? -1.0 : 1.0;
+    const auto d = [sign](const I& x) { return sign / sqrt(1.0 - square(x)); };
+    const I s1 = d(u.v);
+    return chain(u, f(u.p0), d(u.p0), f(u.v), s1, sign * u.v * pow(I(sign * s1), 3), f(u.vt),
+                 f(u.k), d(u.k));
+}
+RayJet asin(const RayJet& u) { return asin_acos(u, false); }
+RayJet acos(const RayJet& u) { return asin_acos(u, true); }
+/// atan2 and mod: values only (derivatives untracked).
+RayJet atan2(const RayJet& u, const RayJet& w) {
+    return untracked(u.c && w.c, atan2(u.p0, w.p0), atan2(u.v, w.v), atan2(u.vt, w.vt));
+}
+RayJet mod(const RayJet& u, const RayJet& w) {
+    return untracked(u.c && w.c, mod(u.p0, w.p0), mod(u.v, w.v), mod(u.vt, w.vt));
+}
+/// and/or: the selected operand's jet where the first operand decides it on T (values by the
+/// interval op, which carries the decoration); else untracked.
+RayJet select(const RayJet& u, const RayJet& w, bool is_and) {
+    const auto f = [is_and](const I& a, const I& b) {
+        return is_and ? logic_and(a, b) : logic_or(a, b);
+    };
+    const bool nonzero = u.v.lower() > 0 || u.v.upper() < 0;
+    const bool zero = is_zero(u.v);
+    if (!nonzero && !zero) return untracked(u.c && w.c, f(u.p0, w.p0), f(u.v, w.v), f(u.vt, w.vt));
+    RayJet r = (nonzero == is_and) ? w : u;
+    r.p0 = f(u.p0, w.p0);
+    r.v = f(u.v, w.v);
+    r.vt = f(u.vt, w.vt);
+    return r;
+}
+RayJet logic_and(const RayJet& u, const RayJet& w) { return select(u, w, true); }
+RayJet logic_or(const RayJet& u, const RayJet& w) { return select(u, w, false); }
+
 /// The enclosures of the output of a jet evaluation.
 SegmentModel model_of(const RayJet& r) {
     SegmentModel m;

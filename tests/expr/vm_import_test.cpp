@@ -235,8 +235,9 @@ TEST(VmImport, CommentsBlankLinesAndSharing) {
 }
 
 TEST(VmImport, ErrorsNameLineColumnAndCause) {
-    EXPECT_EQ(error_of("_0 var-x\n_1 atan2 _0 _0\n"), "t.vm:2:4: unsupported opcode 'atan2'");
-    EXPECT_EQ(error_of("_0 var-x\n_1 floor _0\n"), "t.vm:2:4: unsupported opcode 'floor'");
+    EXPECT_EQ(error_of("_0 var-x\n_1 rand _0\n"), "t.vm:2:4: unsupported opcode 'rand'");
+    EXPECT_EQ(error_of("_0 var-x\n_1 mix _0 _0\n"), "t.vm:2:4: unsupported opcode 'mix'");
+    EXPECT_EQ(error_of("_0 var-x\n_1 floor _0 _0\n"), "t.vm:2:13: 'floor' takes 1 argument, got 2");
     EXPECT_EQ(error_of("_0 var-x\n_1 frob _0\n"), "t.vm:2:4: unknown opcode 'frob'");
     EXPECT_EQ(error_of("_0 var-x\n_1 add _0 _2\n"),
               "t.vm:2:11: undefined id '_2' (arguments must name ids defined on earlier lines)");
@@ -260,8 +261,8 @@ TEST(VmImport, ErrorsNameLineColumnAndCause) {
     EXPECT_EQ(error_of("_0\n"), "t.vm:1:3: expected an opcode after id '_0'");
     EXPECT_EQ(error_of("# nothing\n\n"),
               "t.vm: no instructions: expected '<id> <opcode> [args]' lines");
-    EXPECT_THAT(error_of("_0 var-x\n_1 const 1\n_2 compare _0 _1\n"),
-                HasSubstr("t.vm:3:4: unsupported opcode 'compare'"));
+    EXPECT_THAT(error_of("_0 var-x\n_1 const 1\n_2 compare _0\n"),
+                HasSubstr("t.vm:3:4: 'compare' takes 2 arguments, got 1"));
 }
 
 TEST(VmImport, ConstantsAreTheNearestDoubles) {

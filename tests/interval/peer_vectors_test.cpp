@@ -162,6 +162,12 @@ const std::vector<Itf1788Op>& itf1788_ops() {
         {"abs", 1, [](I x, I, unsigned) { return abs(x); }},
         {"min", 2, [](I x, I y, unsigned) { return min(x, y); }},
         {"max", 2, [](I x, I y, unsigned) { return max(x, y); }},
+        {"tan", 1, [](I x, I, unsigned) { return tan(x); }},
+        {"asin", 1, [](I x, I, unsigned) { return asin(x); }},
+        {"acos", 1, [](I x, I, unsigned) { return acos(x); }},
+        {"atan", 1, [](I x, I, unsigned) { return atan(x); }},
+        {"atan2", 2, [](I y, I x, unsigned) { return atan2(y, x); }},
+        {"recip", 1, [](I x, I, unsigned) { return Interval(1.0) / x; }},
     };
     return ops;
 }

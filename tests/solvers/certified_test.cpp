@@ -148,6 +148,26 @@ TEST(Certified, UndefinedRegionsAreNotSignChanges) {
     expect_hit_at(trace(tape_of("sqrt(x) - 0.5"), {-1, 0, 0}, {1, 0, 0}), 1.25);
 }
 
+TEST(Certified, JumpsOfFidgetOpsAreNotSignChanges) {
+    // floor(x) − 0.5 jumps across 0 at x = 1 and has no zero: never a hit.
+    for (auto* f : {certified_first_root, certified_first_root_reference}) {
+        const RayResult r = f(tape_of("floor(x) - 0.5"), Ray{{0, 0, 0}, {1, 0, 0}, 0, 3}, {});
+        EXPECT_NE(r.status, Status::Hit) << r.t_lo << " " << r.t_hi;
+        // atan2 jumps from −π to π across the negative x axis (t = 1 here), with no zero.
+        const RayResult c = f(tape_of("atan2(y, x)"), Ray{{-1, -1, 0}, {0, 1, 0}, 0, 2}, {});
+        EXPECT_NE(c.status, Status::Hit) << c.t_lo << " " << c.t_hi;
+    }
+    // tan changes sign across its pole at π/2 without a zero; the first zero is at x = π.
+    const RayResult t = trace(tape_of("tan(x)"), {1, 0, 0}, {1, 0, 0}, 0, 3);
+    if (t.status == Status::Hit) {
+        EXPECT_LE(t.t_lo, 3.141592653589793 - 1 + 1e-9);
+        EXPECT_GE(t.t_hi, 3.141592653589793 - 1 - 1e-9);
+    }
+    EXPECT_NE(t.status, Status::Miss);
+    // mod is continuous between its jumps: the zero of mod(x, 2) − 1 at x = 1 is found.
+    expect_hit_at(trace(tape_of("mod(x, 2) - 1"), {0.2, 0, 0}, {1, 0, 0}, 0, 1.5), 0.8);
+}
+
 TEST(Certified, BudgetEndsWithUnknown) {
     // sin(1/x) oscillates without end near 0: a small budget must end the search honestly.
     const Tape t = tape_of("sin(1 / x)");

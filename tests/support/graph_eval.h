@@ -72,6 +72,50 @@ inline double eval_graph(const expr::Graph& g, double x, double y, double z) {
             case expr::Op::Max:
                 r = std::fmax(a, b);
                 break;
+            case expr::Op::Floor:
+                r = std::floor(a);
+                break;
+            case expr::Op::Ceil:
+                r = std::ceil(a);
+                break;
+            case expr::Op::Round:
+                r = std::round(a);
+                break;
+            case expr::Op::Tan:
+                r = std::tan(a);
+                break;
+            case expr::Op::Asin:
+                r = std::asin(a);
+                break;
+            case expr::Op::Acos:
+                r = std::acos(a);
+                break;
+            case expr::Op::Atan:
+                r = std::atan(a);
+                break;
+            case expr::Op::Recip:
+                r = 1.0 / a;
+                break;
+            case expr::Op::Not:
+                r = a == 0 ? 1.0 : 0.0;
+                break;
+            case expr::Op::Atan2:
+                r = std::atan2(a, b);
+                break;
+            case expr::Op::Compare:
+                r = a < b ? -1.0 : a > b ? 1.0 : a == b ? 0.0 : std::nan("");
+                break;
+            case expr::Op::Mod: {
+                const double m = std::fmod(a, b);
+                r = m < 0 ? m + std::fabs(b) : m;
+                break;
+            }
+            case expr::Op::And:
+                r = a == 0 ? a : b;
+                break;
+            case expr::Op::Or:
+                r = a != 0 ? a : b;
+                break;
             case expr::Op::Pow:
                 r = 1.0;
                 for (std::uint32_t k = 0; k < n.exponent; ++k) r *= a;

@@ -318,6 +318,28 @@ TEST(SegmentTrace, ProvenBracketHoldsTheRoot) {
     EXPECT_LE(r.t_hi - r.t_lo, o.epsilon);
 }
 
+TEST(SegmentTrace, FidgetOpsNeverPastTheCertifiedFirstRoot) {
+    // The smooth new ops go through the jet's chain rules, the others through flat or untracked
+    // jets: either way no reported hit lies past the certified first root.
+    const char* scenes[] = {
+        "atan(3 * z) - 0.5", "tan(0.4 * z) - 1",          "asin(0.3 * z) - 0.2",
+        "acos(0.3 * z) - 1", "floor(z) + z - 1.5",        "mod(z, 1.5) - 1",
+        "atan2(z, 1) - 0.7", "and(compare(z, 0), z - 1)", "or(not(floor(z)), z - 2) - 0.5"};
+    for (const char* text : scenes) {
+        const Tape t = tape_of(text);
+        const Ray ray{{0.1, 0.2, -2.3}, {0, 0, 1}, 0, 6};
+        const RayResult ref = solvers::certified_first_root(t, ray);
+        for (const SegmentOptions& so : variants()) {
+            const RayResult r = segment_trace(t, ray, TraceOptions{}, so);
+            if (ref.status == Status::Hit && r.status == Status::Hit) {
+                EXPECT_LE(r.t, ref.t_hi + 1e-12) << text << " " << so.name;
+            }
+            if (ref.status == Status::Hit)
+                EXPECT_NE(r.status, Status::Miss) << text << " " << so.name;
+        }
+    }
+}
+
 // ---- the particle scene ----------------------------------------------------------------------
 
 TEST(SegmentTrace, ParticleSceneAgreesWithCertifiedRoots) {
