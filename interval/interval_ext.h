@@ -72,16 +72,19 @@ BasicInterval<M> with_decoration(BasicInterval<M> x, bool def) {
 /// ⌊[a, b]⌋ = [⌊a⌋, ⌊b⌋] (exact); defined iff ⌊a⌋ = ⌊b⌋ (no integer in (a, b]).
 template <class M>
 BasicInterval<M> floor(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;  // the library's environment (interval.h)
     return detail::integer_step(x, [](double v) { return std::floor(v); });
 }
 /// ⌈[a, b]⌉ = [⌈a⌉, ⌈b⌉] (exact); defined iff ⌈a⌉ = ⌈b⌉ (no integer in [a, b)).
 template <class M>
 BasicInterval<M> ceil(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;  // the library's environment (interval.h)
     return detail::integer_step(x, [](double v) { return std::ceil(v); });
 }
 /// round([a, b]) = [round(a), round(b)], halves away from 0 (exact); defined iff they are equal.
 template <class M>
 BasicInterval<M> round(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;  // the library's environment (interval.h)
     return detail::integer_step(x, [](double v) { return std::round(v); });
 }
 
@@ -93,6 +96,7 @@ BasicInterval<M> round(const BasicInterval<M>& x) {
 ///   otherwise          → [tan a ↓, tan b ↑] (increasing on the branch), defined as x
 template <class M>
 BasicInterval<M> tan(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;  // the library's environment (interval.h)
     using I = BasicInterval<M>;
     if (x.is_empty()) return I::empty();
     const double a = x.lower(), b = x.upper();
@@ -119,6 +123,7 @@ BasicInterval<M> tan(const BasicInterval<M>& x) {
 /// defined iff [a, b] ⊆ [−1, 1].
 template <class M>
 BasicInterval<M> asin(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;  // the library's environment (interval.h)
     if (x.is_empty() || x.lower() > 1 || x.upper() < -1) return BasicInterval<M>::empty();
     const double a = x.lower() < -1 ? -1.0 : x.lower(), b = x.upper() > 1 ? 1.0 : x.upper();
     const auto f = [](double v) { return std::asin(v); };
@@ -130,6 +135,7 @@ BasicInterval<M> asin(const BasicInterval<M>& x) {
 /// (acos 1 = 0 exactly); defined iff [a, b] ⊆ [−1, 1].
 template <class M>
 BasicInterval<M> acos(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;  // the library's environment (interval.h)
     if (x.is_empty() || x.lower() > 1 || x.upper() < -1) return BasicInterval<M>::empty();
     const double a = x.lower() < -1 ? -1.0 : x.lower(), b = x.upper() > 1 ? 1.0 : x.upper();
     const auto f = [](double v) { return std::acos(v); };
@@ -140,6 +146,7 @@ BasicInterval<M> acos(const BasicInterval<M>& x) {
 /// atan on [a, b]: increasing, [atan a ↓, atan b ↑] within [−π/2, π/2] (atan ±∞ = ±π/2).
 template <class M>
 BasicInterval<M> atan(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;  // the library's environment (interval.h)
     if (x.is_empty()) return BasicInterval<M>::empty();
     const auto f = [](double v) { return std::atan(v); };
     return detail::from_bounds<M>(detail::transc_down(f, x.lower(), -detail::kHalfPiHi),
@@ -156,6 +163,7 @@ BasicInterval<M> atan(const BasicInterval<M>& x) {
 ///   [−π, π]; y bounds ±0 read as +0 (the real atan2(0, x < 0) is π); defined as Y and X.
 template <class M>
 BasicInterval<M> atan2(const BasicInterval<M>& y, const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;  // the library's environment (interval.h)
     using I = BasicInterval<M>;
     if (y.is_empty() || x.is_empty()) return I::empty();
     const I full = detail::from_bounds<M>(-detail::kPiHi, detail::kPiHi, false);
@@ -189,6 +197,7 @@ BasicInterval<M> atan2(const BasicInterval<M>& y, const BasicInterval<M>& x) {
 /// a > b; empty operand → empty; defined iff only one value is possible (constant).
 template <class M>
 BasicInterval<M> compare(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+    [[maybe_unused]] typename M::Guard guard;  // the library's environment (interval.h)
     if (a.is_empty() || b.is_empty()) return BasicInterval<M>::empty();
     const bool lt = a.lower()<b.upper(), gt = a.upper()> b.lower();
     const bool eq = a.lower() <= b.upper() && b.lower() <= a.upper();
@@ -203,6 +212,7 @@ BasicInterval<M> compare(const BasicInterval<M>& a, const BasicInterval<M>& b) {
 ///   ⌊a/|b|⌋ = n on the box             → (A − |B|·n) ∩ [0, M], defined as A and B
 template <class M>
 BasicInterval<M> mod(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+    [[maybe_unused]] typename M::Guard guard;  // the library's environment (interval.h)
     using I = BasicInterval<M>;
     if (a.is_empty() || b.is_empty()) return I::empty();
     const I m = abs(b);
@@ -221,6 +231,7 @@ BasicInterval<M> mod(const BasicInterval<M>& a, const BasicInterval<M>& b) {
 ///   otherwise         → hull(0, B), not defined (it may jump where a reaches 0)
 template <class M>
 BasicInterval<M> logic_and(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+    [[maybe_unused]] typename M::Guard guard;  // the library's environment (interval.h)
     using I = BasicInterval<M>;
     if (a.is_empty()) return I::empty();
     if (!detail::may_be_zero(a)) return detail::with_decoration(b, a.defined && b.defined);
@@ -233,6 +244,7 @@ BasicInterval<M> logic_and(const BasicInterval<M>& a, const BasicInterval<M>& b)
 ///   otherwise         → hull(A, B), not defined
 template <class M>
 BasicInterval<M> logic_or(const BasicInterval<M>& a, const BasicInterval<M>& b) {
+    [[maybe_unused]] typename M::Guard guard;  // the library's environment (interval.h)
     if (a.is_empty()) return BasicInterval<M>::empty();
     if (!detail::may_be_zero(a)) return a;
     if (detail::is_zero(a)) return detail::with_decoration(b, a.defined && b.defined);
@@ -242,6 +254,7 @@ BasicInterval<M> logic_or(const BasicInterval<M>& a, const BasicInterval<M>& b) 
 /// otherwise → [0, 1], not defined.
 template <class M>
 BasicInterval<M> logic_not(const BasicInterval<M>& a) {
+    [[maybe_unused]] typename M::Guard guard;  // the library's environment (interval.h)
     if (a.is_empty()) return BasicInterval<M>::empty();
     if (detail::is_zero(a)) return detail::from_bounds<M>(1.0, 1.0, a.defined);
     if (!detail::may_be_zero(a)) return detail::from_bounds<M>(0.0, 0.0, a.defined);

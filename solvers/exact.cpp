@@ -545,7 +545,21 @@ std::string why_not_exact_polynomial(const expr::Tape& tape) {
             case expr::Op::Log:
             case expr::Op::Sin:
             case expr::Op::Cos:
-                return std::string(expr::name(in.op)) + ", not rational" + where(i);
+            case expr::Op::Floor:
+            case expr::Op::Ceil:
+            case expr::Op::Round:
+            case expr::Op::Tan:
+            case expr::Op::Asin:
+            case expr::Op::Acos:
+            case expr::Op::Atan:
+            case expr::Op::Recip:
+            case expr::Op::Not:
+            case expr::Op::Atan2:
+            case expr::Op::Compare:
+            case expr::Op::Mod:
+            case expr::Op::And:
+            case expr::Op::Or:
+                return std::string(expr::name(in.op)) + ", not a polynomial operation" + where(i);
             case expr::Op::Div:
                 if (vb) return "division by a non-constant" + where(i);
                 varying[i] = va;
@@ -652,6 +666,20 @@ std::optional<ExactPoly> exact_polynomial(const expr::Tape& tape, const Ray& ray
             case expr::Op::Log:
             case expr::Op::Sin:
             case expr::Op::Cos:
+            case expr::Op::Floor:
+            case expr::Op::Ceil:
+            case expr::Op::Round:
+            case expr::Op::Tan:
+            case expr::Op::Asin:
+            case expr::Op::Acos:
+            case expr::Op::Atan:
+            case expr::Op::Recip:
+            case expr::Op::Not:
+            case expr::Op::Atan2:
+            case expr::Op::Compare:
+            case expr::Op::Mod:
+            case expr::Op::And:
+            case expr::Op::Or:
                 return std::nullopt;  // excluded by is_polynomial
         }
         r[in.out] = std::move(out);
