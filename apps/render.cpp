@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "apps/progress.h"
+#include "certray/certray.h"
 #include "expr/input_error.h"
 #include "expr/load.h"
 #include "expr/parser.h"
@@ -307,50 +308,55 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
 
     const std::string method = o.method ? *o.method : spec.method.value_or("certified");
     if (!check_method(method)) return 2;
-    tracers::RenderOptions ro;
+    RenderSettings rs;
+    rs.method = method;
+    if (o.budget) rs.knobs.values.emplace_back("budget", static_cast<double>(*o.budget));
+    if (o.epsilon) rs.knobs.values.emplace_back("epsilon", *o.epsilon);
     if (o.bounds.size() == 2) {
-        for (auto& a : ro.bounds) a = {o.bounds[0], o.bounds[1]};
+        rs.bounds = Box3{
+            {{o.bounds[0], o.bounds[1]}, {o.bounds[0], o.bounds[1]}, {o.bounds[0], o.bounds[1]}}};
     } else if (spec.bounds) {
-        ro.bounds = *spec.bounds;
+        rs.bounds = spec.bounds;
     }
-    ro.width = size ? size->first : 640;
-    ro.height = size ? size->second : 480;
-    ro.aov = aov;
-    ro.threads = o.threads;
+    rs.width = size ? size->first : 640;
+    rs.height = size ? size->second : 480;
+    rs.aov = aov;
+    rs.threads = o.threads;
     tracers::WorkProgress work;
-    ro.progress = &work;
-    if (spec.light) ro.light = *spec.light;
-    const double aspect = static_cast<double>(ro.width) / ro.height;
-    const double fov = spec.camera && spec.camera->contains("fov")
-                           ? (*spec.camera)["fov"].get<double>()
-                           : ro.camera.fov_degrees;
-    // Auto-framing: the cells where the surface may be, seen whole from (1, -2, 0.8).
-    const std::vector<Box3> cells = tracers::surface_cells(tape, ro.bounds);
-    const std::optional<Box3> extent = tracers::hull(cells);
-    ro.camera = extent ? tracers::frame_boxes(cells, *extent, fov, aspect)
-                       : tracers::frame_box(ro.bounds, fov, aspect);
+    rs.progress = &work;
+    if (spec.light) rs.light = *spec.light;
+    if (spec.camera && spec.camera->contains("fov")) {
+        rs.fov_degrees = (*spec.camera)["fov"].get<double>();
+    }
+    const Scene scene = Scene::from_graph(spec.graph);
+    // Auto-framed (the cells where the surface may be, seen whole), then the JSON's camera keys.
+    tracers::Camera camera = auto_frame(scene, render_bounds(scene, rs), rs.fov_degrees,
+                                        static_cast<double>(rs.width) / rs.height);
     if (spec.camera) {
         const auto& c = *spec.camera;
-        if (c.contains("eye")) ro.camera.eye = read_vec3(o.scene, c["eye"], "camera.eye");
-        if (c.contains("target"))
-            ro.camera.target = read_vec3(o.scene, c["target"], "camera.target");
-        if (c.contains("up")) ro.camera.up = read_vec3(o.scene, c["up"], "camera.up");
+        if (c.contains("eye")) camera.eye = read_vec3(o.scene, c["eye"], "camera.eye");
+        if (c.contains("target")) camera.target = read_vec3(o.scene, c["target"], "camera.target");
+        if (c.contains("up")) camera.up = read_vec3(o.scene, c["up"], "camera.up");
     }
-
-    tracers::MethodOptions mo;
-    if (o.budget) mo.budget = *o.budget;
-    if (o.epsilon) mo.epsilon = *o.epsilon;
-    mo.bounds = std::array<Interval, 3>{Interval(ro.bounds[0][0], ro.bounds[0][1]),
-                                        Interval(ro.bounds[1][0], ro.bounds[1][1]),
-                                        Interval(ro.bounds[2][0], ro.bounds[2][1])};
-    const tracers::RayFunction fn = tracers::make_method(method, tape, mo);
+    rs.camera = camera;
     ProgressReport report("certray render", work, progress_mode_for_stderr(o.quiet));
-    const tracers::RenderResult r = tracers::render_3d(tape, fn, ro);
+    tracers::RenderResult r;
+    try {
+        r = render(scene, rs);
+    } catch (const std::invalid_argument& e) {
+        const std::string what = e.what();
+        if (what.find("does not read") == std::string::npos &&
+            what.find("knob '") == std::string::npos) {
+            throw;  // a method that does not apply to the scene: an input error
+        }
+        std::cerr << "certray render: " << what << "\n";
+        return 2;
+    }
     report.finish();
     tracers::write_png(o.out, r.image);
     const unsigned threads =
         o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
-    out << "3D scene " << ro.width << "x" << ro.height << ", method " << method << ", aov "
+    out << "3D scene " << rs.width << "x" << rs.height << ", method " << method << ", aov "
         << aov_name << ": hit " << r.stats.hit << ", miss " << r.stats.miss << ", unknown "
         << r.stats.unknown << " pixels; evaluations " << r.stats.evals.total() << " (value "
         << r.stats.evals.value << ", interval " << r.stats.evals.interval << ", gradient "

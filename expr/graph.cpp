@@ -296,6 +296,9 @@ NodeId Graph::binary(Op op, NodeId a, NodeId b) {
             if (ca && na.constant == 1.0) return b;
             if (cb && nb.constant == -1.0) return unary(Op::Neg, a);  // x·(−1) = −x
             if (ca && na.constant == -1.0) return unary(Op::Neg, b);
+            // x·x = x²: the same real function and the same double; as a Square it is seen as
+            // a sum-of-squares term by the Lipschitz root forms (interval/grad_bound.h).
+            if (a.value == b.value) return unary(Op::Square, a);
             break;
         case Op::Div:
             if (ca && cb && rn && detail::exact_quotient(na.constant, nb.constant, r)) {

@@ -21,5 +21,6 @@
 #endif
 
 #include "certray/query.h"
+#include "certray/render.h"
 #include "certray/scene.h"
 #include "certray/version.h"

@@ -106,7 +106,10 @@ TEST(Graph, FoldsOnlyExactResults) {
     EXPECT_EQ(g.node(g.binary(Op::Add, c(1e308), c(1e308))).op, Op::Add);  // overflows
     expect_constant(g, g.binary(Op::Mul, c(1.5), c(2.0)), 3.0);
     EXPECT_EQ(g.node(g.binary(Op::Mul, c(3.0), c(0.1))).op, Op::Mul);  // 3·0.1 is not a double
-    EXPECT_EQ(g.node(g.binary(Op::Mul, c(1e-200), c(1e-200))).op, Op::Mul);  // underflows
+    EXPECT_EQ(g.node(g.binary(Op::Mul, c(1e-200), c(3e-200))).op, Op::Mul);  // underflows
+    // x·x is x² (so that Lipschitz root forms see a sum of squares); not folded when it underflows.
+    EXPECT_EQ(g.node(g.binary(Op::Mul, g.var(0), g.var(0))).op, Op::Square);
+    EXPECT_EQ(g.node(g.binary(Op::Mul, c(1e-200), c(1e-200))).op, Op::Square);
     expect_constant(g, g.binary(Op::Div, c(1.0), c(4.0)), 0.25);
     EXPECT_EQ(g.node(g.binary(Op::Div, c(1.0), c(3.0))).op, Op::Div);
     EXPECT_EQ(g.node(g.binary(Op::Div, c(1.0), c(0.0))).op, Op::Div);

@@ -1,0 +1,59 @@
+// api/render.cpp — certray::render (include/certray/render.h).
+#include "certray/render.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "interval/interval.h"
+
+namespace certray {
+
+tracers::Box3 render_bounds(const Scene& scene, const RenderSettings& s) {
+    if (s.bounds) {
+        for (const auto& [lo, hi] : *s.bounds) {
+            if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi)) {
+                throw std::invalid_argument("render bounds: expected finite lo < hi on each axis");
+            }
+        }
+        return *s.bounds;
+    }
+    if (scene.bounds()) return *scene.bounds();
+    return {{{-2, 2}, {-2, 2}, {-2, 2}}};
+}
+
+tracers::Camera auto_frame(const Scene& scene, const tracers::Box3& bounds, double fov_degrees,
+                           double aspect) {
+    NearestScope env;
+    const std::vector<tracers::Box3> cells = tracers::surface_cells(scene.tape(), bounds);
+    const std::optional<tracers::Box3> extent = tracers::hull(cells);
+    return extent ? tracers::frame_boxes(cells, *extent, fov_degrees, aspect)
+                  : tracers::frame_box(bounds, fov_degrees, aspect);
+}
+
+tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {
+    if (scene.is_2d()) {
+        throw std::invalid_argument(
+            "render: the scene does not read z (a 2D scene): draw it as the image of f < 0 "
+            "(tracers/image2d.h) instead");
+    }
+    if (s.width == 0 || s.height == 0) throw std::invalid_argument("render: empty image size");
+    tracers::MethodOptions mo = tracers::resolve_knobs(s.method, s.knobs);
+    tracers::RenderOptions ro;
+    ro.width = s.width;
+    ro.height = s.height;
+    ro.bounds = render_bounds(scene, s);
+    ro.aov = s.aov;
+    ro.light = s.light;
+    ro.threads = s.threads;
+    ro.progress = s.progress;
+    ro.camera = s.camera ? *s.camera
+                         : auto_frame(scene, ro.bounds, s.fov_degrees,
+                                      static_cast<double>(s.width) / s.height);
+    mo.bounds = std::array<Interval, 3>{Interval(ro.bounds[0][0], ro.bounds[0][1]),
+                                        Interval(ro.bounds[1][0], ro.bounds[1][1]),
+                                        Interval(ro.bounds[2][0], ro.bounds[2][1])};
+    const tracers::RayFunction fn = tracers::make_method(s.method, scene.tape(), mo);
+    return tracers::render_3d(scene.tape(), fn, ro);
+}
+
+}  // namespace certray

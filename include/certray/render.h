@@ -1,0 +1,46 @@
+// certray/render.h — certray::render: a 3D image of a Scene, one ray per pixel by any method.
+//
+// Contract: tracers/render.h (pixel rays, AOVs, statistics). The camera is auto-framed on the
+// part of the bounds where the surface may be (interval subdivision) unless one is given; the
+// bounds are the given box, else the scene's own (a CSG tree's aabb), else [-2, 2]³. The method
+// gets the bounds as its `bounds` knob when it reads one. The image stays in memory: writing it
+// (PNG, tracers/png_io.h) is the caller's choice.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+
+#include "certray/query.h"
+#include "certray/scene.h"
+#include "tracers/camera.h"
+#include "tracers/render.h"
+
+namespace certray {
+
+struct RenderSettings {
+    unsigned width = 640;
+    unsigned height = 480;
+    std::string method = "certified";       ///< a name of certray::methods()
+    KnobValues knobs;                       ///< the method's knobs (its bounds come from `bounds`)
+    std::optional<tracers::Box3> bounds;    ///< per axis [lo, hi]
+    std::optional<tracers::Camera> camera;  ///< unset: auto-framed
+    double fov_degrees = tracers::Camera{}.fov_degrees;  ///< of the auto-framed camera
+    tracers::Aov aov = tracers::Aov::Shade;
+    tracers::Vec3 light{-0.4, -0.9, 1.2};
+    unsigned threads = 0;                       ///< 0: one per hardware thread
+    tracers::WorkProgress* progress = nullptr;  ///< advanced tile by tile when set
+};
+
+/// The bounds box render() uses for `settings` on `scene`.
+tracers::Box3 render_bounds(const Scene& scene, const RenderSettings& settings);
+
+/// A camera that sees the surface of `scene` inside `bounds` whole, from (1, -2, 0.8).
+tracers::Camera auto_frame(const Scene& scene, const tracers::Box3& bounds, double fov_degrees,
+                           double aspect);
+
+/// Renders `scene` (see the file contract). Throws std::invalid_argument for a 2D scene, an empty
+/// size, an unknown method or knob, or a method that does not apply to the scene.
+tracers::RenderResult render(const Scene& scene, const RenderSettings& settings);
+
+}  // namespace certray
