@@ -8,6 +8,7 @@ packages=(
     libgtest-dev librapidcheck-dev libbenchmark-dev
     libcli11-dev nlohmann-json3-dev libtbb-dev libpng-dev
     python3-matplotlib python3-mpmath
+    python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest
 )
 
 missing=()

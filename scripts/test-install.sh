@@ -38,4 +38,10 @@ if c++ -std=c++20 -ffast-math -fsyntax-only -I"$tmp/prefix/include" -I"$tmp/pref
     exit 1
 fi
 grep -q "certray: this translation unit is compiled with -ffast-math" "$tmp/fast.txt"
+# The Python module, installed for the system Python under the prefix.
+if [[ -d "$tmp/prefix/lib/python3/dist-packages/certray" ]]; then
+    PYTHONPATH="$tmp/prefix/lib/python3/dist-packages" /usr/bin/python3 "$root/examples/hello_ray.py" \
+        | tee "$tmp/py.txt"
+    grep -q "^proven" "$tmp/py.txt"
+fi
 echo "install test: examples built and run against the installed package; pkg-config; -ffast-math refused"
