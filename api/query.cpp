@@ -47,9 +47,10 @@ std::vector<RayResult> query(const Scene& scene, std::span<const Ray> rays,
     po.threads = options.threads;
     po.progress = options.progress;
     po.cancel = options.cancel;
-    const bool finished = tracers::parallel_for(rays.size(), po, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) results[i] = fn(rays[i]);
-    });
+    const bool finished =
+        tracers::parallel_for(rays.size(), po, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i) results[i] = fn(rays[i]);
+        });
     if (!finished) throw Cancelled();
     return results;
 }

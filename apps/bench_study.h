@@ -21,6 +21,7 @@
 #include "solvers/ray.h"
 #include "solvers/ray_io.h"
 #include "tracers/methods.h"
+#include "tracers/parallel.h"
 
 namespace certray::apps::study {
 
@@ -128,16 +129,17 @@ std::string resolve(const std::string& path);
 /// call (its warm-up).
 template <class F>
 void parallel_for(unsigned threads, std::size_t n, F&& f) {
-    std::atomic<std::size_t> next{0};
-    auto work = [&] {
-        bool first = true;
-        for (std::size_t i; (i = next.fetch_add(1)) < n; first = false) f(i, first);
-    };
-    const unsigned t = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(n)));
-    std::vector<std::thread> pool;
-    for (unsigned k = 1; k < t; ++k) pool.emplace_back(work);
-    work();
-    for (std::thread& th : pool) th.join();
+    // The library's parallel loop (tracers/parallel.h), one index at a time; `first` is true for
+    // the first index a worker takes.
+    std::vector<char> started(std::max(1u, threads), 0);
+    tracers::ParallelOptions po;
+    po.threads = std::max(1u, threads);
+    po.chunk = 1;
+    tracers::parallel_for(n, po, [&](std::size_t i, std::size_t, unsigned worker) {
+        const bool first = !started[worker];
+        started[worker] = 1;
+        f(i, first);
+    });
 }
 
 /// The progress bar on stderr.

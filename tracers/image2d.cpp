@@ -23,6 +23,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "tracers/parallel.h"
 #include "tracers/tile_walker.h"
 
 namespace certray::tracers {
@@ -272,7 +273,6 @@ Image2d render_2d(const expr::Tape& tape, const Image2dOptions& options) {
     std::exception_ptr error;
 
     auto worker = [&](unsigned k) {
-        NearestScope env;  // the double signs at the leaves, whatever the thread's environment
         try {
             std::unique_ptr<WalkerScratch> scratch = scratch_pool().take();
             TileWalker walker(xs, ys, img, *scratch);
@@ -305,10 +305,7 @@ Image2d render_2d(const expr::Tape& tape, const Image2dOptions& options) {
             queue.stop();
         }
     };
-    std::vector<std::thread> pool;
-    for (unsigned k = 1; k < threads; ++k) pool.emplace_back(worker, k);
-    worker(0);
-    for (std::thread& t : pool) t.join();
+    run_workers(threads, worker);
     if (error) std::rethrow_exception(error);
 
     // Every pixel is written exactly once (disjoint tiles), by a fill or a leaf that counted it.

@@ -1,4 +1,4 @@
-// tracers/parallel.cpp — parallel_for (see parallel.h).
+// tracers/parallel.cpp — run_workers and parallel_for (see parallel.h).
 #include "tracers/parallel.h"
 
 #include <algorithm>
@@ -16,62 +16,73 @@ unsigned worker_count(unsigned threads) {
     return threads > 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
 }
 
-bool parallel_for(std::size_t n, const ParallelOptions& options,
-                  const std::function<void(std::size_t, std::size_t)>& body) {
-    const std::size_t chunk = std::max<std::size_t>(1, options.chunk);
-    std::atomic<std::size_t> next{0};
-    std::atomic<std::size_t> done{0};
-    std::atomic<bool> stop{false};
+void run_workers(unsigned workers, const std::function<void(unsigned)>& fn,
+                 const std::function<void()>& poll, std::chrono::milliseconds period) {
+    workers = std::max(1u, workers);
     std::mutex mutex;
     std::condition_variable finished_cv;
     unsigned finished = 0;
     std::exception_ptr error;
-    auto cancelled = [&] {
-        return options.cancel && options.cancel->load(std::memory_order_relaxed);
-    };
-
-    auto worker = [&] {
+    auto run = [&](unsigned k) {
         NearestScope env;
         try {
-            while (!stop.load(std::memory_order_relaxed) && !cancelled()) {
-                const std::size_t begin = next.fetch_add(chunk, std::memory_order_relaxed);
-                if (begin >= n) break;
-                const std::size_t end = std::min(n, begin + chunk);
-                body(begin, end);
-                done.fetch_add(end - begin, std::memory_order_relaxed);
-            }
+            fn(k);
         } catch (...) {
             std::lock_guard lock(mutex);
             if (!error) error = std::current_exception();
-            stop.store(true);
         }
         std::lock_guard lock(mutex);
         ++finished;
         finished_cv.notify_all();
     };
+    std::vector<std::thread> pool;
+    const unsigned first_thread = poll ? 0 : 1;
+    pool.reserve(workers);
+    for (unsigned k = first_thread; k < workers; ++k) pool.emplace_back(run, k);
+    if (!poll) {
+        run(0);
+    } else {
+        std::unique_lock lock(mutex);
+        while (!finished_cv.wait_for(lock, period, [&] { return finished == workers; })) {
+            lock.unlock();
+            poll();
+            lock.lock();
+        }
+    }
+    for (std::thread& t : pool) t.join();
+    if (error) std::rethrow_exception(error);
+}
 
+bool parallel_for(std::size_t n, const ParallelOptions& options,
+                  const std::function<void(std::size_t, std::size_t, unsigned)>& body) {
+    const std::size_t chunk = std::max<std::size_t>(1, options.chunk);
+    std::atomic<std::size_t> next{0};
+    std::atomic<std::size_t> done{0};
+    std::atomic<bool> stop{false};
+    auto cancelled = [&] {
+        return options.cancel && options.cancel->load(std::memory_order_relaxed);
+    };
     const unsigned workers = static_cast<unsigned>(
         std::clamp<std::size_t>((n + chunk - 1) / chunk, 1, worker_count(options.threads)));
-    if (workers == 1 && !options.progress) {
-        worker();  // no thread to start
-    } else {
-        std::vector<std::thread> pool;
-        pool.reserve(workers);
-        for (unsigned i = 0; i < workers; ++i) pool.emplace_back(worker);
-        {
-            std::unique_lock lock(mutex);
-            while (!finished_cv.wait_for(lock, options.progress_period,
-                                         [&] { return finished == workers; })) {
-                if (options.progress) {
-                    lock.unlock();
-                    options.progress(done.load(std::memory_order_relaxed), n);
-                    lock.lock();
+    std::function<void()> poll;
+    if (options.progress) poll = [&] { options.progress(done.load(std::memory_order_relaxed), n); };
+    run_workers(
+        workers,
+        [&](unsigned k) {
+            try {
+                while (!stop.load(std::memory_order_relaxed) && !cancelled()) {
+                    const std::size_t begin = next.fetch_add(chunk, std::memory_order_relaxed);
+                    if (begin >= n) break;
+                    const std::size_t end = std::min(n, begin + chunk);
+                    body(begin, end, k);
+                    done.fetch_add(end - begin, std::memory_order_relaxed);
                 }
+            } catch (...) {
+                stop.store(true);
+                throw;
             }
-        }
-        for (std::thread& t : pool) t.join();
-    }
-    if (error) std::rethrow_exception(error);
+        },
+        poll, options.progress_period);
     if (cancelled() && done.load() < n) return false;
     if (options.progress) options.progress(n, n);
     return true;

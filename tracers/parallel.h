@@ -1,12 +1,15 @@
 // tracers/parallel.h — the one way certray spreads work over threads.
 //
-// Contract: parallel_for(n, options, body) calls body(begin, end) on disjoint ranges covering
-// [0, n) exactly once, from `threads` workers (the calling thread is one of them), in chunks
-// taken in increasing order. Each worker runs in the library's floating-point environment
-// (NearestScope). The first exception a body throws stops the others at their next chunk and is
-// rethrown to the caller; a set cancel flag stops them the same way and parallel_for returns
-// false. `progress(done, n)` is called from the calling thread only, about every
-// `progress_period`, and once at the end of a run that was not stopped.
+// Contract: run_workers(workers, fn) calls fn(k) once for each k in [0, workers), each on its own
+// thread (the calling thread runs k = 0 unless it polls), and returns when all have returned;
+// each worker runs in the library's floating-point environment (NearestScope). The first
+// exception a worker throws is rethrown to the caller after all have returned.
+// parallel_for(n, options, body) calls body(begin, end, worker) on disjoint ranges covering
+// [0, n) exactly once, in chunks taken in increasing order by `worker_count(threads)` workers;
+// the first exception stops the others at their next chunk; a set cancel flag stops them the same
+// way and parallel_for returns false. `progress(done, n)` is called from the calling thread only,
+// about every `progress_period`, and once at the end of a run that was not stopped.
+// Used by certray::query, the 3D and 2D renders and the bench: one implementation of threads.
 #pragma once
 
 #include <atomic>
@@ -29,8 +32,15 @@ struct ParallelOptions {
 /// The number of workers `threads` means: itself if > 0, else the hardware threads (at least 1).
 unsigned worker_count(unsigned threads);
 
+/// Runs fn(0) … fn(workers − 1) on their own threads (see the file contract). With `poll`, the
+/// calling thread runs no worker and calls poll() about every `period` until all have returned.
+void run_workers(unsigned workers, const std::function<void(unsigned)>& fn,
+                 const std::function<void()>& poll = {},
+                 std::chrono::milliseconds period = std::chrono::milliseconds(200));
+
 /// Runs body over [0, n) (see the file contract). Returns false when cancelled.
-bool parallel_for(std::size_t n, const ParallelOptions& options,
-                  const std::function<void(std::size_t begin, std::size_t end)>& body);
+bool parallel_for(
+    std::size_t n, const ParallelOptions& options,
+    const std::function<void(std::size_t begin, std::size_t end, unsigned worker)>& body);
 
 }  // namespace certray::tracers

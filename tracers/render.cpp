@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "expr/derived.h"
+#include "tracers/parallel.h"
 
 namespace certray::tracers {
 namespace {
@@ -152,62 +153,42 @@ RenderResult render_3d(const expr::Tape& tape, const RayFunction& method,
     const unsigned tiles_x = (ans.width + kTile - 1) / kTile;
     const unsigned tiles_y = (ans.height + kTile - 1) / kTile;
     const std::size_t tiles = std::size_t{tiles_x} * tiles_y;
-    std::atomic<std::size_t> next{0};
-    std::mutex mutex;
-    std::exception_ptr error;
-    std::vector<EvalCounts> sums;
-
-    auto worker = [&](EvalCounts& sum) {
-        try {
-            for (;;) {
-                const std::size_t t = next.fetch_add(1, std::memory_order_relaxed);
-                if (t >= tiles) break;
-                const unsigned i0 = static_cast<unsigned>(t % tiles_x) * kTile;
-                const unsigned j0 = static_cast<unsigned>(t / tiles_x) * kTile;
-                const unsigned i1 = std::min(ans.width, i0 + kTile);
-                const unsigned j1 = std::min(ans.height, j0 + kTile);
-                for (unsigned j = j0; j < j1; ++j) {
-                    for (unsigned i = i0; i < i1; ++i) {
-                        const std::size_t k = std::size_t{j} * ans.width + i;
-                        Ray ray = frame.ray(i + 0.5, j + 0.5);
-                        if (!clip_ray(ray, options.bounds)) continue;  // a Miss, no evaluation
-                        const RayResult r = method(ray);
-                        sum += r.evals;
-                        ans.status[k] = r.status;
-                        ans.evals[k] = r.evals.total();
-                        if (r.status == Status::Miss) continue;
-                        ans.t[k] = r.t;
-                        if (r.status != Status::Hit) continue;
-                        const Vec3 p{ray.o[0] + r.t * ray.d[0], ray.o[1] + r.t * ray.d[1],
-                                     ray.o[2] + r.t * ray.d[2]};
-                        const Dual<double, 3> g = expr::gradient(tape, p);
-                        Vec3 n = normalize({g.v[0], g.v[1], g.v[2]});
-                        if (dot(n, ray.d) > 0) n = {-n[0], -n[1], -n[2]};
-                        ans.normal[k] = {static_cast<float>(n[0]), static_cast<float>(n[1]),
-                                         static_cast<float>(n[2])};
-                    }
-                }
-                if (options.progress)
-                    options.progress->done.fetch_add(1, std::memory_order_relaxed);
-            }
-        } catch (...) {
-            std::lock_guard lock(mutex);
-            if (!error) error = std::current_exception();
-            next.store(tiles);
-        }
-    };
-
-    const unsigned workers = static_cast<unsigned>(std::clamp<std::size_t>(
-        options.threads > 0 ? options.threads : std::thread::hardware_concurrency(), 1,
-        std::max<std::size_t>(tiles, 1)));
-    sums.resize(workers);
+    const unsigned workers = static_cast<unsigned>(
+        std::clamp<std::size_t>(worker_count(options.threads), 1, std::max<std::size_t>(tiles, 1)));
+    std::vector<EvalCounts> sums(workers);
     if (options.progress) options.progress->total.store(tiles, std::memory_order_relaxed);
-    std::vector<std::thread> pool;
-    pool.reserve(workers);
-    for (unsigned w = 0; w < workers; ++w) pool.emplace_back(worker, std::ref(sums[w]));
-
-    for (std::thread& th : pool) th.join();
-    if (error) std::rethrow_exception(error);
+    ParallelOptions po;
+    po.threads = workers;
+    po.chunk = 1;
+    parallel_for(tiles, po, [&](std::size_t t, std::size_t, unsigned worker) {
+        EvalCounts& sum = sums[worker];
+        const unsigned i0 = static_cast<unsigned>(t % tiles_x) * kTile;
+        const unsigned j0 = static_cast<unsigned>(t / tiles_x) * kTile;
+        const unsigned i1 = std::min(ans.width, i0 + kTile);
+        const unsigned j1 = std::min(ans.height, j0 + kTile);
+        for (unsigned j = j0; j < j1; ++j) {
+            for (unsigned i = i0; i < i1; ++i) {
+                const std::size_t k = std::size_t{j} * ans.width + i;
+                Ray ray = frame.ray(i + 0.5, j + 0.5);
+                if (!clip_ray(ray, options.bounds)) continue;  // a Miss, no evaluation
+                const RayResult r = method(ray);
+                sum += r.evals;
+                ans.status[k] = r.status;
+                ans.evals[k] = r.evals.total();
+                if (r.status == Status::Miss) continue;
+                ans.t[k] = r.t;
+                if (r.status != Status::Hit) continue;
+                const Vec3 p{ray.o[0] + r.t * ray.d[0], ray.o[1] + r.t * ray.d[1],
+                             ray.o[2] + r.t * ray.d[2]};
+                const Dual<double, 3> g = expr::gradient(tape, p);
+                Vec3 n = normalize({g.v[0], g.v[1], g.v[2]});
+                if (dot(n, ray.d) > 0) n = {-n[0], -n[1], -n[2]};
+                ans.normal[k] = {static_cast<float>(n[0]), static_cast<float>(n[1]),
+                                 static_cast<float>(n[2])};
+            }
+        }
+        if (options.progress) options.progress->done.fetch_add(1, std::memory_order_relaxed);
+    });
 
     RenderStats& st = result.stats;
     for (const EvalCounts& s : sums) st.evals += s;
