@@ -4,7 +4,7 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(certray_libs certray_flags certray_interval certray_expr certray_solvers certray_tracers
+set(certray_libs certray_flags certray_interval certray_expr certray_solvers certray_tracers certray_png
     certray_api certray)
 install(TARGETS ${certray_libs} EXPORT certrayTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

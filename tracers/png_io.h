@@ -1,4 +1,5 @@
-// tracers/png_io.h — 8-bit RGB images and their PNG files (libpng).
+// tracers/png_io.h — PNG files of 8-bit RGB images (libpng): the certray::png library, apart from
+// the core so that a user of the core does not need libpng.
 //
 // Contract: write_png writes `PATH.tmp` beside PATH and renames it into place only once libpng has
 // written the whole file, so a failure leaves neither a half-written PATH nor the temporary file.
@@ -6,37 +7,11 @@
 // std::runtime_error naming the file on failure.
 #pragma once
 
-#include <cstdint>
 #include <string>
-#include <vector>
+
+#include "tracers/rgb_image.h"
 
 namespace certray::tracers {
-
-/// An 8-bit RGB image: rows top to bottom, 3 bytes per pixel.
-struct RgbImage {
-    unsigned width = 0;
-    unsigned height = 0;
-    std::vector<std::uint8_t> rgb;  ///< width·height·3 bytes
-
-    RgbImage() = default;
-    /// A black image of the given size.
-    RgbImage(unsigned w, unsigned h) : width(w), height(h), rgb(std::size_t{w} * h * 3, 0) {}
-
-    /// The three bytes of pixel (i, j), j = 0 the top row.
-    std::uint8_t* at(unsigned i, unsigned j) {
-        return rgb.data() + (std::size_t{j} * width + i) * 3;
-    }
-    const std::uint8_t* at(unsigned i, unsigned j) const {
-        return rgb.data() + (std::size_t{j} * width + i) * 3;
-    }
-    /// Sets pixel (i, j).
-    void set(unsigned i, unsigned j, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
-        std::uint8_t* p = at(i, j);
-        p[0] = r;
-        p[1] = g;
-        p[2] = b;
-    }
-};
 
 /// Writes `image` as an 8-bit RGB PNG to `path` (through `path.tmp`, renamed when complete).
 void write_png(const std::string& path, const RgbImage& image);

@@ -21,7 +21,7 @@
 #include "solvers/ray.h"
 #include "tracers/camera.h"
 #include "tracers/methods.h"
-#include "tracers/png_io.h"
+#include "tracers/rgb_image.h"
 #include "tracers/progress.h"
 
 namespace certray::tracers {
