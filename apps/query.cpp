@@ -124,6 +124,10 @@ nlohmann::json make_stats(const QueryOptions& options, const tracers::MethodOpti
 std::vector<std::string> query_methods() { return tracers::method_names(); }
 
 int run_query(const QueryOptions& options) {
+    if (const std::string_view* now = tracers::renamed_method(options.method)) {
+        std::cerr << "certray query: method '" << options.method << "' is now called '" << *now
+                  << "' (the old name still works)\n";
+    }
     tracers::MethodOptions knobs;
     try {
         knobs = tracers::resolve_knobs(options.method, options.knobs);

@@ -290,6 +290,7 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
     const std::vector<std::string> names = tracers::method_names();
     auto check_method = [&](const std::string& m) {
         if (std::find(names.begin(), names.end(), m) != names.end()) return true;
+        if (tracers::renamed_method(m)) return true;
         std::cerr << "certray render: unknown method '" << m
                   << "'; available methods: " << method_list() << "\n";
         return false;
@@ -308,6 +309,10 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
 
     const std::string method = o.method ? *o.method : spec.method.value_or("certified");
     if (!check_method(method)) return 2;
+    if (const std::string_view* now = tracers::renamed_method(method)) {
+        std::cerr << "certray render: method '" << method << "' is now called '" << *now
+                  << "' (the old name still works)\n";
+    }
     RenderSettings rs;
     rs.method = method;
     if (o.budget) rs.knobs.values.emplace_back("budget", static_cast<double>(*o.budget));

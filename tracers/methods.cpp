@@ -318,7 +318,7 @@ const std::vector<Entry>& entries() {
                  return solvers::hermite_first_root(tape, ray, opt);
              };
          }},
-        {{"approx",
+        {{"certified-taylor",
           true,
           "certified, per-cell Taylor models (a degree 1-3 polynomial with a proven remainder) on "
           "the ambiguous cells of an octree over the bounds (default [-2,2]^3, --depth 5): parts "
@@ -333,9 +333,10 @@ const std::vector<Entry>& entries() {
              opt.budget = o.budget;
              return [approx, opt](const Ray& ray) { return approx->certified(ray, opt); };
          }},
-        {{"approx-plain",
+        {{"taylor-plain",
           false,
-          "the per-cell polynomial models of approx without their remainder, solved in closed "
+          "the per-cell polynomial models of certified-taylor without their remainder, solved in "
+          "closed "
           "form (cubic) on each ambiguous cell's segment; the scene is taken as empty outside the "
           "bounds; approximate (may miss or invent roots)",
           {"bounds", "depth"},
@@ -412,7 +413,14 @@ std::string joined(const std::vector<std::string_view>& names) {
     return s;
 }
 
+/// Old names that still work (with a note: renamed_method).
+constexpr std::pair<std::string_view, std::string_view> kRenamed[] = {
+    {"approx", "certified-taylor"},
+    {"approx-plain", "taylor-plain"},
+};
+
 const Entry& entry(std::string_view name) {
+    if (const std::string_view* now = renamed_method(name)) name = *now;
     for (const Entry& e : entries()) {
         if (e.info.name == name) return e;
     }
@@ -438,6 +446,13 @@ std::string format_value(double v) {
 }  // namespace
 
 const MethodInfo& method_info(std::string_view name) { return entry(name).info; }
+
+const std::string_view* renamed_method(std::string_view old_name) {
+    for (const auto& [old, now] : kRenamed) {
+        if (old == old_name) return &now;
+    }
+    return nullptr;
+}
 
 std::vector<std::string> method_names() {
     std::vector<std::string> names;

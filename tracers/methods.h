@@ -40,7 +40,8 @@ struct MethodOptions {
     double kappa = 0.2;
     /// Samples along the ray of the Hermite method.
     unsigned samples = 64;
-    /// Subdivision depth of the octree methods (certified-octree, octree, approx, approx-plain).
+    /// Subdivision depth of the octree methods (certified-octree, octree, certified-taylor,
+    /// taylor-plain).
     int depth = 5;
     /// The scene bounds: where global constants are computed and outside which tracers stop.
     /// Unset: each ray's own segment [o + tmin·d, o + tmax·d] bounds it.
@@ -94,7 +95,11 @@ const std::vector<MethodInfo>& method_infos();
 /// The method named `name`; throws std::invalid_argument naming the available ones.
 const MethodInfo& method_info(std::string_view name);
 
-/// The names make_method accepts, in the order `--help` lists them.
+/// The name a renamed method has now ("approx" → "certified-taylor", "approx-plain" →
+/// "taylor-plain"; the old names still work everywhere), or null when `old_name` is not one.
+const std::string_view* renamed_method(std::string_view old_name);
+
+/// The names make_method accepts, in the order `--help` lists them (without the old names).
 std::vector<std::string> method_names();
 
 /// The methods as text: per method its name, certified or approximate, what it does, and its

@@ -21,8 +21,8 @@
 #include "solvers/ray.h"
 #include "tracers/camera.h"
 #include "tracers/methods.h"
-#include "tracers/rgb_image.h"
 #include "tracers/progress.h"
+#include "tracers/rgb_image.h"
 
 namespace certray::tracers {
 

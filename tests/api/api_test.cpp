@@ -155,8 +155,11 @@ TEST(Api, RegistrySaysWhichMethodsAreProven) {
     EXPECT_GE(certified, 6);
     EXPECT_GE(approximate, 6);
     EXPECT_FALSE(method_info("sphere").certified);
-    EXPECT_FALSE(method_info("approx-plain").certified);
-    EXPECT_TRUE(method_info("approx").certified);
+    EXPECT_FALSE(method_info("taylor-plain").certified);
+    EXPECT_TRUE(method_info("certified-taylor").certified);
+    // The old names still work, as the new ones.
+    EXPECT_EQ(method_info("approx").name, "certified-taylor");
+    EXPECT_EQ(method_info("approx-plain").name, "taylor-plain");
     EXPECT_THROW(method_info("nope"), std::invalid_argument);
 }
 
