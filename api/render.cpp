@@ -30,6 +30,16 @@ tracers::Camera auto_frame(const Scene& scene, const tracers::Box3& bounds, doub
                   : tracers::frame_box(bounds, fov_degrees, aspect);
 }
 
+bool surface_reaches_bounds(const Scene& scene, const tracers::Box3& bounds) {
+    NearestScope env;
+    for (const tracers::Box3& c : tracers::surface_cells(scene.tape(), bounds)) {
+        for (int a = 0; a < 3; ++a) {
+            if (c[a][0] <= bounds[a][0] || c[a][1] >= bounds[a][1]) return true;
+        }
+    }
+    return false;
+}
+
 tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {
     if (scene.is_2d()) {
         throw std::invalid_argument(

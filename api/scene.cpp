@@ -1,6 +1,10 @@
 // api/scene.cpp — certray::Scene (include/certray/scene.h).
 #include "certray/scene.h"
 
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
 #include <string_view>
 #include <utility>
 
@@ -20,6 +24,36 @@ struct Scene::State {
         : graph(std::move(g)), tape(graph), bounds(b) {}
 };
 
+namespace {
+
+/// The bounds of a Fidget .vm file: what its header comments say ("Suggested bounds: [lo,hi]^3",
+/// or Fidget's "--scale S", a view of [-1/S, 1/S]^3), else Fidget's default view [-1, 1]^3.
+std::array<std::array<double, 2>, 3> vm_bounds(const std::string& path) {
+    std::ifstream in(path);
+    double lo = -1, hi = 1;
+    for (std::string line; std::getline(in, line) && !line.empty() && line[0] == '#';) {
+        double a = 0, b = 0;
+        const std::size_t sb = line.find("Suggested bounds: [");
+        if (sb != std::string::npos &&
+            std::sscanf(line.c_str() + sb, "Suggested bounds: [%lf,%lf]^3", &a, &b) == 2 &&
+            std::isfinite(a) && std::isfinite(b) && a < b) {
+            lo = a;
+            hi = b;
+            break;
+        }
+        const std::size_t sc = line.find("--scale ");
+        if (sc != std::string::npos && std::sscanf(line.c_str() + sc, "--scale %lf", &a) == 1 &&
+            a > 0 && std::isfinite(1 / a)) {
+            lo = -1 / a;
+            hi = 1 / a;
+            break;
+        }
+    }
+    return {{{lo, hi}, {lo, hi}, {lo, hi}}};
+}
+
+}  // namespace
+
 Scene Scene::load(const std::string& path) {
     if (std::string_view(path).ends_with(".json")) {
         expr::CsgScene csg = expr::import_csg_json_file(path);
@@ -31,7 +65,10 @@ Scene Scene::load(const std::string& path) {
         }
         return Scene(std::make_shared<const State>(std::move(csg.graph), b));
     }
-    return Scene(std::make_shared<const State>(expr::load_graph_file(path), std::nullopt));
+    expr::Graph graph = expr::load_graph_file(path);
+    std::optional<std::array<std::array<double, 2>, 3>> b;
+    if (std::string_view(path).ends_with(".vm")) b = vm_bounds(path);
+    return Scene(std::make_shared<const State>(std::move(graph), b));
 }
 
 Scene Scene::parse(std::string_view text, std::string_view name) {

@@ -87,7 +87,11 @@ SceneSpec load_json_scene(const std::string& path) {
     }
     SceneSpec s;
     const fs::path scene = fs::path(path).parent_path() / j["scene"].get<std::string>();
-    s.graph = expr::load_graph_file(scene.string());
+    {
+        const Scene loaded = Scene::load(scene.string());
+        s.graph = loaded.graph();
+        s.bounds = loaded.bounds();  // the file's own (a .vm's [-1, 1]^3), unless "bounds" is set
+    }
     if (j.contains("bounds")) {
         const auto& b = j["bounds"];
         if (!b.is_array() || b.size() != 3)
@@ -301,7 +305,9 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
     if (fs::path(o.scene).extension() == ".json") {
         spec = load_json_scene(o.scene);
     } else {
-        spec.graph = expr::load_graph_file(o.scene);
+        const Scene loaded = Scene::load(o.scene);
+        spec.graph = loaded.graph();
+        spec.bounds = loaded.bounds();  // a .vm's [-1, 1]^3 (Fidget's models), else none
     }
     if (!size && spec.size) size = spec.size;
     const expr::Tape tape(spec.graph);
@@ -335,6 +341,13 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
     }
     const Scene scene = Scene::from_graph(spec.graph);
     // Auto-framed (the cells where the surface may be, seen whole), then the JSON's camera keys.
+    if (!o.quiet && surface_reaches_bounds(scene, render_bounds(scene, rs))) {
+        const Box3 b = render_bounds(scene, rs);
+        std::cerr << "certray render: warning: the surface may reach the bounds [" << b[0][0]
+                  << ", " << b[0][1] << "] x [" << b[1][0] << ", " << b[1][1] << "] x [" << b[2][0]
+                  << ", " << b[2][1]
+                  << "]: the picture may be clipped there (try larger --bounds)\n";
+    }
     tracers::Camera camera = auto_frame(scene, render_bounds(scene, rs), rs.fov_degrees,
                                         static_cast<double>(rs.width) / rs.height);
     if (spec.camera) {

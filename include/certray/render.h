@@ -39,6 +39,10 @@ tracers::Box3 render_bounds(const Scene& scene, const RenderSettings& settings);
 tracers::Camera auto_frame(const Scene& scene, const tracers::Box3& bounds, double fov_degrees,
                            double aspect);
 
+/// True when the surface may reach a face of `bounds` (a cell of the interval subdivision that may
+/// hold it lies on the face): the picture may show it clipped.
+bool surface_reaches_bounds(const Scene& scene, const tracers::Box3& bounds);
+
 /// Renders `scene` (see the file contract). Throws std::invalid_argument for a 2D scene, an empty
 /// size, an unknown method or knob, or a method that does not apply to the scene.
 tracers::RenderResult render(const Scene& scene, const RenderSettings& settings);

@@ -34,7 +34,9 @@ class Scene {
     const expr::Tape& tape() const noexcept;
     /// True when f does not read z (a 2D scene, drawn as the image of f < 0).
     bool is_2d() const noexcept;
-    /// The bounds the scene file gives (a CSG tree's aabb_min/aabb_max), if any.
+    /// The bounds the scene file gives: a CSG tree's aabb_min/aabb_max; for a Fidget .vm what its
+    /// header says ("Suggested bounds: [lo,hi]^3", or Fidget's "--scale S": [-1/S, 1/S]³), else
+    /// [-1, 1]³ (where Fidget's models live and its renderers look); none for the others.
     const std::optional<std::array<std::array<double, 2>, 3>>& bounds() const noexcept;
     /// f in the expression language (parses back to the same function).
     std::string to_expr() const;
