@@ -157,6 +157,9 @@ class Solver {
                !(v.lower() == 0 && v.upper() == 0);
     }
     RayResult finish(Status status, double lo, double hi);
+    /// Only candidates remain, the first being [lo, hi]: a point p > hi such that a sign change
+    /// around the candidate proves a zero in [lo, p], or NaN.
+    double sign_change_around(double lo, double hi);
 
     const expr::Tape& tape_;
     const Ray& ray_;
@@ -290,6 +293,35 @@ RayResult Solver<E>::hit(Interval t) {
     return finish(Status::Hit, t.lower(), t.upper());
 }
 
+// Points ever further out on both sides of the first candidate [lo, hi] (4^k ulps, k < 9): to
+// the left everything is excluded, so a point q there with a certain sign and a point p right of
+// hi with the other sign (or an exact zero) prove a zero in [q, p] — in [lo, p] — once g is proven
+// defined and continuous on [q, p]. Other candidates between hi and p do not matter.
+template <class E>
+double Solver<E>::sign_change_around(double lo, double hi) {
+    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+    if (!std::isfinite(lo) || !std::isfinite(hi)) return kNaN;
+    auto ulp = [](double x) { return std::nextafter(std::fabs(x), kInf) - std::fabs(x); };
+    double q = kNaN;
+    int sq = 2;
+    for (int k = 0; k < 9 && sq == 2 && !out_of_budget(); ++k) {
+        q = lo - std::ldexp(ulp(lo), 2 * k);
+        if (!(q >= ray_.tmin)) return kNaN;
+        sq = sign_at(q);
+        if (sq == 0) sq = 2;  // cannot happen left of the first candidate; never trusted
+    }
+    if (sq == 2) return kNaN;
+    for (int k = 0; k < 9 && !out_of_budget(); ++k) {
+        const double p = hi + std::ldexp(ulp(hi), 2 * k);
+        if (!(p <= ray_.tmax)) return kNaN;
+        const int sp = sign_at(p);
+        if (sp == 2) continue;
+        if (sp == sq) return kNaN;  // the same sign on both sides: a touching zero, or none
+        return g(Interval(q, p)).defined ? p : kNaN;
+    }
+    return kNaN;
+}
+
 template <class E>
 RayResult Solver<E>::solve() {
     if (ray_.d[0] == 0 && ray_.d[1] == 0 && ray_.d[2] == 0) {
@@ -309,8 +341,12 @@ RayResult Solver<E>::solve() {
     // The first interval that could not be resolved, if any, and how far unresolved parts reach.
     double cand_lo = std::numeric_limits<double>::quiet_NaN();
     double cand_hi = cand_lo;
+    double first_hi = cand_lo;  // the right end of the first candidate
     auto unresolved = [&](const Interval& t) {
-        if (std::isnan(cand_lo)) cand_lo = t.lower();
+        if (std::isnan(cand_lo)) {
+            cand_lo = t.lower();
+            first_hi = t.upper();
+        }
         cand_hi = std::isnan(cand_hi) ? t.upper() : std::max(cand_hi, t.upper());
     };
 
@@ -384,7 +420,11 @@ RayResult Solver<E>::solve() {
         stack.push_back(Interval(a, m));
     }
     if (!std::isnan(proof_hi)) return answer(proof_lo, proof_hi);
-    if (!std::isnan(cand_lo)) return finish(Status::Unknown, cand_lo, cand_hi);
+    if (!std::isnan(cand_lo)) {
+        const double p = sign_change_around(cand_lo, first_hi);
+        if (!std::isnan(p)) return answer(cand_lo, p);
+        return finish(Status::Unknown, cand_lo, cand_hi);
+    }
     return finish(Status::Miss, 0, 0);
 }
 
