@@ -15,6 +15,7 @@
 #include "interval/affine.h"
 #include "interval/dual.h"
 #include "interval/interval.h"
+#include "interval/interval_pair.h"
 #include "interval/mpfr_interval.h"
 #include "solvers/exact.h"
 
@@ -34,6 +35,7 @@ struct Field {
     expr::Evaluator<E> value;
     expr::Evaluator<DE> dual;
     expr::Evaluator<Affine<1>> affine;
+    expr::Evaluator<IntervalPair> pair;
 
     static E lift(const Interval& x) {
         if constexpr (std::is_same_v<E, Interval>) {
@@ -78,6 +80,14 @@ struct Field {
             v.defined = defined && !v.is_empty();
         }
         return v;
+    }
+    /// g over T as a union of at most two intervals (interval/interval_pair.h), in double
+    /// intervals whatever E is: ⊇ {g(t) : t ∈ T, g defined at t}.
+    IntervalPair g_pair(const expr::Tape& tape, const Ray& ray, const Interval& t) {
+        std::array<IntervalPair, 3> p;
+        for (int i = 0; i < 3; ++i)
+            p[i] = IntervalPair(Interval(ray.o[i]) + t * Interval(ray.d[i]));
+        return pair(tape, p);
     }
     /// G(T) and G′(T).
     D1 g_dual(const expr::Tape& tape, const Ray& ray, const Interval& t) {
@@ -136,6 +146,25 @@ class Solver {
         }
         return v;
     }
+    /// No zero of g in T, given v = G(T): 0 ∉ v; or, where v holds 0 but g is not proven defined
+    /// on T and the tape divides, 0 lies in neither piece of the two-piece enclosure of g over T
+    /// (a pole inside T: a zero needs g defined, and g's values on either side of the pole are
+    /// bounded away from 0). One more interval evaluation, counted, and only then.
+    bool excluded(const Interval& t, const Interval& v) {
+        if (!possibly_zero(v)) return true;
+        if (v.defined || !divides()) return false;
+        ++result_.evals.interval;
+        return !possibly_zero(s_.field.g_pair(tape_, ray_, t));
+    }
+    /// Whether the tape has a division (computed once per ray, when first asked).
+    bool divides() {
+        if (divides_ < 0) {
+            divides_ = 0;
+            for (const expr::Instr& in : tape_.instrs())
+                if (in.op == expr::Op::Div) divides_ = 1;
+        }
+        return divides_ == 1;
+    }
     /// G(T) and G'(T) at once.
     D1 g_dual(const Interval& t) {
         ++result_.evals.gradient;
@@ -166,6 +195,7 @@ class Solver {
     const CertifiedOptions& options_;
     Scratch<E>& s_;
     RayResult result_;
+    int divides_ = -1;
 };
 
 template <class E>
@@ -270,7 +300,7 @@ RayResult Solver<E>::hit(Interval t) {
             if (!(t.lower() < p && p < t.upper())) continue;
             const Interval left(t.lower(), p);
             const Interval gl = g_excluding(left);
-            if (!possibly_zero(gl)) {  // no zero in [a, p]: the first zero is in [p, b]
+            if (excluded(left, gl)) {  // no zero in [a, p]: the first zero is in [p, b]
                 t = Interval(p, t.upper());
                 if (moved_to(p) == 0) return finish(Status::Hit, p, p);
                 progress = true;
@@ -378,7 +408,7 @@ RayResult Solver<E>::solve() {
         stack.pop_back();
         if (!std::isnan(proof_hi) && t.upper() > proof_hi) t = Interval(t.lower(), proof_hi);
         const Interval gt = g_excluding(t);
-        if (!possibly_zero(gt)) continue;  // excluded (also when g is undefined on all of T)
+        if (excluded(t, gt)) continue;  // excluded (also when g is undefined on all of T)
 
         // g ≡ 0 on T: its left end is the first zero.
         if (gt.lower() == 0 && gt.upper() == 0 && gt.defined) return answer(t.lower(), t.lower());
