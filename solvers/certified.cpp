@@ -15,6 +15,7 @@
 #include "interval/affine.h"
 #include "interval/dual.h"
 #include "interval/interval.h"
+#include "interval/interval_pair.h"
 #include "interval/mpfr_interval.h"
 #include "solvers/exact.h"
 
@@ -34,6 +35,7 @@ struct Field {
     expr::Evaluator<E> value;
     expr::Evaluator<DE> dual;
     expr::Evaluator<Affine<1>> affine;
+    expr::Evaluator<IntervalPair> pair;
 
     static E lift(const Interval& x) {
         if constexpr (std::is_same_v<E, Interval>) {
@@ -78,6 +80,14 @@ struct Field {
             v.defined = defined && !v.is_empty();
         }
         return v;
+    }
+    /// g over T as a union of at most two intervals (interval/interval_pair.h), in double
+    /// intervals whatever E is: ⊇ {g(t) : t ∈ T, g defined at t}.
+    IntervalPair g_pair(const expr::Tape& tape, const Ray& ray, const Interval& t) {
+        std::array<IntervalPair, 3> p;
+        for (int i = 0; i < 3; ++i)
+            p[i] = IntervalPair(Interval(ray.o[i]) + t * Interval(ray.d[i]));
+        return pair(tape, p);
     }
     /// G(T) and G′(T).
     D1 g_dual(const expr::Tape& tape, const Ray& ray, const Interval& t) {
@@ -136,6 +146,25 @@ class Solver {
         }
         return v;
     }
+    /// No zero of g in T, given v = G(T): 0 ∉ v; or, where v holds 0 but g is not proven defined
+    /// on T and the tape divides, 0 lies in neither piece of the two-piece enclosure of g over T
+    /// (a pole inside T: a zero needs g defined, and g's values on either side of the pole are
+    /// bounded away from 0). One more interval evaluation, counted, and only then.
+    bool excluded(const Interval& t, const Interval& v) {
+        if (!possibly_zero(v)) return true;
+        if (v.defined || !divides()) return false;
+        ++result_.evals.interval;
+        return !possibly_zero(s_.field.g_pair(tape_, ray_, t));
+    }
+    /// Whether the tape has a division (computed once per ray, when first asked).
+    bool divides() {
+        if (divides_ < 0) {
+            divides_ = 0;
+            for (const expr::Instr& in : tape_.instrs())
+                if (in.op == expr::Op::Div) divides_ = 1;
+        }
+        return divides_ == 1;
+    }
     /// G(T) and G'(T) at once.
     D1 g_dual(const Interval& t) {
         ++result_.evals.gradient;
@@ -157,12 +186,16 @@ class Solver {
                !(v.lower() == 0 && v.upper() == 0);
     }
     RayResult finish(Status status, double lo, double hi);
+    /// Only candidates remain, the first being [lo, hi]: a point p > hi such that a sign change
+    /// around the candidate proves a zero in [lo, p], or NaN.
+    double sign_change_around(double lo, double hi);
 
     const expr::Tape& tape_;
     const Ray& ray_;
     const CertifiedOptions& options_;
     Scratch<E>& s_;
     RayResult result_;
+    int divides_ = -1;
 };
 
 template <class E>
@@ -267,7 +300,7 @@ RayResult Solver<E>::hit(Interval t) {
             if (!(t.lower() < p && p < t.upper())) continue;
             const Interval left(t.lower(), p);
             const Interval gl = g_excluding(left);
-            if (!possibly_zero(gl)) {  // no zero in [a, p]: the first zero is in [p, b]
+            if (excluded(left, gl)) {  // no zero in [a, p]: the first zero is in [p, b]
                 t = Interval(p, t.upper());
                 if (moved_to(p) == 0) return finish(Status::Hit, p, p);
                 progress = true;
@@ -290,6 +323,35 @@ RayResult Solver<E>::hit(Interval t) {
     return finish(Status::Hit, t.lower(), t.upper());
 }
 
+// Points ever further out on both sides of the first candidate [lo, hi] (4^k ulps, k < 9): to
+// the left everything is excluded, so a point q there with a certain sign and a point p right of
+// hi with the other sign (or an exact zero) prove a zero in [q, p] — in [lo, p] — once g is proven
+// defined and continuous on [q, p]. Other candidates between hi and p do not matter.
+template <class E>
+double Solver<E>::sign_change_around(double lo, double hi) {
+    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+    if (!std::isfinite(lo) || !std::isfinite(hi)) return kNaN;
+    auto ulp = [](double x) { return std::nextafter(std::fabs(x), kInf) - std::fabs(x); };
+    double q = kNaN;
+    int sq = 2;
+    for (int k = 0; k < 9 && sq == 2 && !out_of_budget(); ++k) {
+        q = lo - std::ldexp(ulp(lo), 2 * k);
+        if (!(q >= ray_.tmin)) return kNaN;
+        sq = sign_at(q);
+        if (sq == 0) sq = 2;  // cannot happen left of the first candidate; never trusted
+    }
+    if (sq == 2) return kNaN;
+    for (int k = 0; k < 9 && !out_of_budget(); ++k) {
+        const double p = hi + std::ldexp(ulp(hi), 2 * k);
+        if (!(p <= ray_.tmax)) return kNaN;
+        const int sp = sign_at(p);
+        if (sp == 2) continue;
+        if (sp == sq) return kNaN;  // the same sign on both sides: a touching zero, or none
+        return g(Interval(q, p)).defined ? p : kNaN;
+    }
+    return kNaN;
+}
+
 template <class E>
 RayResult Solver<E>::solve() {
     if (ray_.d[0] == 0 && ray_.d[1] == 0 && ray_.d[2] == 0) {
@@ -309,8 +371,12 @@ RayResult Solver<E>::solve() {
     // The first interval that could not be resolved, if any, and how far unresolved parts reach.
     double cand_lo = std::numeric_limits<double>::quiet_NaN();
     double cand_hi = cand_lo;
+    double first_hi = cand_lo;  // the right end of the first candidate
     auto unresolved = [&](const Interval& t) {
-        if (std::isnan(cand_lo)) cand_lo = t.lower();
+        if (std::isnan(cand_lo)) {
+            cand_lo = t.lower();
+            first_hi = t.upper();
+        }
         cand_hi = std::isnan(cand_hi) ? t.upper() : std::max(cand_hi, t.upper());
     };
 
@@ -342,7 +408,7 @@ RayResult Solver<E>::solve() {
         stack.pop_back();
         if (!std::isnan(proof_hi) && t.upper() > proof_hi) t = Interval(t.lower(), proof_hi);
         const Interval gt = g_excluding(t);
-        if (!possibly_zero(gt)) continue;  // excluded (also when g is undefined on all of T)
+        if (excluded(t, gt)) continue;  // excluded (also when g is undefined on all of T)
 
         // g ≡ 0 on T: its left end is the first zero.
         if (gt.lower() == 0 && gt.upper() == 0 && gt.defined) return answer(t.lower(), t.lower());
@@ -384,7 +450,11 @@ RayResult Solver<E>::solve() {
         stack.push_back(Interval(a, m));
     }
     if (!std::isnan(proof_hi)) return answer(proof_lo, proof_hi);
-    if (!std::isnan(cand_lo)) return finish(Status::Unknown, cand_lo, cand_hi);
+    if (!std::isnan(cand_lo)) {
+        const double p = sign_change_around(cand_lo, first_hi);
+        if (!std::isnan(p)) return answer(cand_lo, p);
+        return finish(Status::Unknown, cand_lo, cand_hi);
+    }
     return finish(Status::Miss, 0, 0);
 }
 

@@ -164,8 +164,21 @@ RayResult Approx::certified(const Ray& ray, const solvers::CertifiedOptions& opt
         result.t = a;
         return true;
     };
+    // [tmin, resume) has been decided by a window across a face (face_window, tracers/octree.h):
+    // pieces and candidates start there.
+    double resume = -kInf;
+    auto take = [&](Status status, double lo, double hi) {
+        found = true;
+        best_lo = lo;
+        result.status = status;
+        result.t_lo = lo;
+        result.t_hi = hi;
+        result.t = std::isfinite(hi) ? midpoint(Interval(lo, hi)) : lo;
+    };
     // The certified solver on [a, b] with `tape` (valid there); false: stop the ray.
     auto solve = [&](const expr::Tape& tape, double a, double b) {
+        if (b < resume) return true;
+        a = std::max(a, resume);
         if (found && !(a < best_lo)) return true;
         const double hi = found ? std::min(b, best_lo) : b;
         if (out_of_budget(a)) return false;
@@ -174,14 +187,29 @@ RayResult Approx::certified(const Ray& ray, const solvers::CertifiedOptions& opt
         const RayResult r = solvers::certified_first_root(tape, Ray{ray.o, ray.d, a, hi}, o);
         result.evals += r.evals;
         if (r.status == Status::Miss) return true;
-        if (!found || r.t_lo < best_lo) {
-            found = true;
-            best_lo = r.t_lo;
-            result.status = r.status;
-            result.t_lo = r.t_lo;
-            result.t_hi = r.t_hi;
-            result.t = r.t;
+        if (found && !(r.t_lo < best_lo)) {
+            return r.status == Status::Hit || result.evals.total() < options.budget;
         }
+        // Undecided at an end of the piece (a cell face, or a split point of the model's
+        // bisection): re-decide across it with the full tape.
+        double wlo = 0, whi = 0;
+        if (result.evals.total() < options.budget && face_window(ray, a, hi, r, wlo, whi)) {
+            o.budget = options.budget - result.evals.total();
+            const RayResult w =
+                solvers::certified_first_root(tree_.tape(), Ray{ray.o, ray.d, wlo, whi}, o);
+            result.evals += w.evals;
+            if (w.status == Status::Miss) {
+                resume = whi;
+                return result.evals.total() < options.budget;
+            }
+            if (w.status == Status::Hit) {
+                take(Status::Hit, std::max(w.t_lo, r.t_lo), w.t_hi);
+                resume = whi;
+                return true;
+            }
+        }
+        take(r.status, r.t_lo, r.t_hi);
+        result.t = r.t;
         return r.status == Status::Hit || result.evals.total() < options.budget;
     };
     auto full = [&](double a, double b) {
@@ -190,6 +218,8 @@ RayResult Approx::certified(const Ray& ray, const solvers::CertifiedOptions& opt
     };
     // One leaf segment with the cell's model; false: stop the ray.
     auto leaf = [&](std::uint32_t node, double a, double b) {
+        if (b < resume) return true;
+        a = std::max(a, resume);
         if (found && !(a < best_lo)) return true;
         const double hi = found ? std::min(b, best_lo) : b;
         if (out_of_budget(a)) return false;
@@ -210,8 +240,10 @@ RayResult Approx::certified(const Ray& ray, const solvers::CertifiedOptions& opt
         std::uint64_t ranges = 0;
         bool go_on = true;
         while (n > 0 && go_on) {
-            const Item it = stack[--n];
+            Item it = stack[--n];
             if (found && !(it.lo < best_lo)) break;
+            if (it.hi < resume) continue;  // decided across a face
+            it.lo = std::max(it.lo, resume);
             double pr_width;
             bool excluded;
             {

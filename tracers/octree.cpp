@@ -86,6 +86,22 @@ Interval ray_box(const Ray& ray, const std::array<Interval, 3>& box) {
     return ray_box_up(ray, box);
 }
 
+bool face_window(const Ray& ray, double a, double b, const RayResult& r, double& lo, double& hi) {
+    if (r.status != Status::Unknown || !(r.t_lo <= r.t_hi) || !std::isfinite(a) ||
+        !std::isfinite(b) || !std::isfinite(r.t_lo) || !std::isfinite(r.t_hi)) {
+        return false;
+    }
+    const double scale = std::max(std::fabs(a), std::fabs(b));
+    const double ulps16 = 16 * (std::nextafter(scale, kInf) - scale);
+    const double width = r.t_hi - r.t_lo;
+    const double tol = width + ulps16;
+    if (!(r.t_hi + tol >= b || r.t_lo - tol <= a)) return false;
+    const double reach = std::max({b - a, 4 * width, ulps16});
+    lo = std::max(ray.tmin, r.t_lo - reach);
+    hi = std::min(ray.tmax, r.t_hi + reach);
+    return lo <= hi && std::isfinite(lo) && std::isfinite(hi);
+}
+
 Octree::Octree(const expr::Tape& tape, const std::array<Interval, 3>& bounds,
                const OctreeOptions& options)
     : tape_(tape), bounds_(bounds), options_(options) {
@@ -222,7 +238,11 @@ RayResult Octree::certified(const Ray& ray, const solvers::CertifiedOptions& opt
         found = true;
         best_lo = lo;
     };
+    // [tmin, resume) has been decided by a window across a face (face_window): pieces start there.
+    double resume = -kInf;
     auto piece = [&](const expr::Tape& tape, double a, double b) {
+        if (b < resume) return true;
+        a = std::max(a, resume);
         if (found && !(a < best_lo)) return true;
         const double hi = found ? std::min(b, best_lo) : b;
         if (result.evals.total() >= options.budget) {  // [a, …) unexamined
@@ -234,7 +254,25 @@ RayResult Octree::certified(const Ray& ray, const solvers::CertifiedOptions& opt
         const RayResult r = solvers::certified_first_root(tape, Ray{ray.o, ray.d, a, hi}, o);
         result.evals += r.evals;
         if (r.status == Status::Miss) return true;
-        if (!found || r.t_lo < best_lo) merge(r.status, r.t_lo, r.t_hi);
+        if (found && !(r.t_lo < best_lo)) return result.evals.total() < options.budget;
+        // Undecided at an end of the piece: re-decide across the face with the full tape.
+        double wlo = 0, whi = 0;
+        if (result.evals.total() < options.budget && face_window(ray, a, hi, r, wlo, whi)) {
+            o.budget = options.budget - result.evals.total();
+            const RayResult w =
+                solvers::certified_first_root(tape_, Ray{ray.o, ray.d, wlo, whi}, o);
+            result.evals += w.evals;
+            if (w.status == Status::Miss) {
+                resume = whi;
+                return result.evals.total() < options.budget;
+            }
+            if (w.status == Status::Hit) {
+                merge(Status::Hit, std::max(w.t_lo, r.t_lo), w.t_hi);
+                resume = whi;
+                return result.evals.total() < options.budget;
+            }
+        }
+        merge(r.status, r.t_lo, r.t_hi);
         return result.evals.total() < options.budget;
     };
     auto finish = [&]() {

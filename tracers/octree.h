@@ -114,4 +114,16 @@ std::array<Interval, 3> inflate(const std::array<Interval, 3>& box);
 /// True when every point o + t·d, t in [t0, t1], provably lies in `box`.
 bool segment_inside(const Ray& ray, double t0, double t1, const std::array<Interval, 3>& box);
 
+/// A certified solve of the piece [a, b] of a ray (a cell's segment, or part of one) that ended
+/// Unknown, not for want of budget, with its candidate [r.t_lo, r.t_hi] touching an end of the
+/// piece (within the candidate's width plus 16 ulps): the zero it could not decide may sit on the
+/// face between two cells, where each cell's solve sees only half of the sign change (the points
+/// with a decided sign lie in the neighbour). Returns true and the window [lo, hi] ⊇ the
+/// candidate, reaching one piece length (at least four candidate widths) to each side within
+/// [ray.tmin, ray.tmax], on which the caller re-decides the candidate with the full tape: since
+/// every zero of the piece lies in the candidate and nothing before r.t_lo is possible, a Miss
+/// there makes the piece and the window free of zeros, and a Hit [h, k] is the first zero of the
+/// ray in [max(h, r.t_lo), k]. Returns false when the candidate touches no end.
+bool face_window(const Ray& ray, double a, double b, const RayResult& r, double& lo, double& hi);
+
 }  // namespace certray::tracers

@@ -134,6 +134,26 @@ scenes["deep_csg"] = "\n".join(lines) + "\n"
 case("deep-csg-centre", "deep_csg", (0.5, 0.5, 1), (0, 0, -1), 0, 2, "hit", 1 - D(0.004))
 case("deep-csg-gap", "deep_csg", (0.505, 0.505, 1), (0, 0, -1), 0, 2, "miss")
 
+# Poles: a root past a pole must be narrowed like any other, a ray crossing only poles is a miss
+# (a sign change across a pole is no zero: g is undefined there).
+scene("pole-shift", "1 / (x - 0.3) + 0.5", "a pole at x = 0.3, the root at x = 0.3 - 2")
+xr = D(0.3) - 2
+case("pole-then-root", "pole-shift", (1, 0, 0), (-0.7, 0.3, 0.1), 0, 6, "hit", (1 - xr) / D(0.7))
+case("pole-only", "pole-shift", (1, 0, 0), (-0.7, 0.3, 0.1), 0, 3, "miss")
+case("root-then-pole", "pole-shift", (-3, 0, 0), (1.1, 0, 0), 0, 5, "hit", (xr + 3) / D(1.1))
+scene("tan", "sin(x) / cos(x)", "tan x as sin/cos: roots at k pi, poles at pi/2 + k pi")
+case("tan-past-pole", "tan", (0.5, 0, 0), (0.9, 0.2, 0), 0, 10, "hit", (mp.pi - D(0.5)) / D(0.9))
+case("tan-pole-only", "tan", (0.5, 0, 0), (0.9, 0.2, 0), 0, 2.75, "miss")
+case("tan-2pi", "tan", (3.5, 0, 0), (1.3, 0, 0), 0, 5, "hit", (2 * mp.pi - D(3.5)) / D(1.3))
+case("tan-negative", "tan", (-0.5, 0, 0), (-1, 0, 0), 0, 4, "hit", mp.pi - D(0.5))
+# A box with faces at +-0.75: on octree cell faces of [-2, 2]^3 at depths >= 4.
+scene("box-face", "max(max(abs(x), abs(y)), abs(z)) - 0.75", "a box with faces at +-0.75")
+ox = -3.1059441656784625
+case("box-face-head-on", "box-face", (ox, 0.20367648172826502, -0.23023625089302696),
+     (1.149522427097173, 0, 0), 0, 20, "hit", (D(-0.75) - D(ox)) / D(1.149522427097173))
+case("box-face-oblique", "box-face", (3, 0.1, -0.2), (-1.3, 0.05, 0.07), 0, 20, "hit",
+     (D(3) - D(0.75)) / D(1.3))
+
 for name, text in scenes.items():
     with open(os.path.join(HERE, name + ".expr"), "w") as f:
         f.write(text)

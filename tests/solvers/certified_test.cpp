@@ -16,6 +16,7 @@
 #include "expr/graph.h"
 #include "expr/parser.h"
 #include "expr/tape.h"
+#include "interval/interval_pair.h"
 #include "interval/mpfr_interval.h"
 #include "tests/support/generators.h"
 #include "tests/support/random_dag.h"
@@ -166,6 +167,117 @@ TEST(Certified, JumpsOfFidgetOpsAreNotSignChanges) {
     EXPECT_NE(t.status, Status::Miss);
     // mod is continuous between its jumps: the zero of mod(x, 2) − 1 at x = 1 is found.
     expect_hit_at(trace(tape_of("mod(x, 2) - 1"), {0.2, 0, 0}, {1, 0, 0}, 0, 1.5), 0.8);
+}
+
+/// sign(o[0] + t·d[0] − x) for the real x held in `x` (mpfr_t at 256 bits): the coordinate is
+/// computed exactly (53 × 53 bits and a sum fit), so the comparison is exact.
+int x_side(const Ray& ray, double t, const mpfr_t x) {
+    mpfr_t v;
+    mpfr_init2(v, 256);
+    mpfr_set_d(v, t, MPFR_RNDN);
+    mpfr_mul_d(v, v, ray.d[0], MPFR_RNDN);
+    mpfr_add_d(v, v, ray.o[0], MPFR_RNDN);
+    const int c = mpfr_cmp(v, x);
+    mpfr_clear(v);
+    return c;
+}
+
+/// A hit few ulps wide whose enclosure holds the t where the ray's x coordinate is `x` (moving
+/// in the direction of d[0] ≠ 0).
+void expect_hit_at_x(const Ray& ray, const RayResult& r, const mpfr_t x, double max_ulps = 8) {
+    ASSERT_EQ(r.status, Status::Hit) << "t_lo " << r.t_lo << " t_hi " << r.t_hi;
+    const int dir = ray.d[0] > 0 ? 1 : -1;
+    EXPECT_LE(dir * x_side(ray, r.t_lo, x), 0) << r.t_lo;  // not past the root
+    EXPECT_GE(dir * x_side(ray, r.t_hi, x), 0) << r.t_hi;  // at or past it
+    EXPECT_LE(ulps(r.t_lo, r.t_hi), max_ulps) << r.t_lo << " " << r.t_hi;
+}
+
+TEST(IntervalPair, DivisionByAnIntervalAroundZeroGivesTwoPieces) {
+    // 1 / [−2, 4] = (−∞, −1/2] ∪ [1/4, +∞); + ½ → (−∞, 0] ∪ [3/4, +∞): holds 0 (at the left
+    // piece's end: 1/x = −½ at x = −2), while 1 / [−1, 4] + ½ = (−∞, −½] ∪ [¾, +∞) does not.
+    const IntervalPair a = IntervalPair(1.0) / IntervalPair(Interval(-2, 4)) + IntervalPair(0.5);
+    EXPECT_TRUE(possibly_zero(a));
+    const IntervalPair b = IntervalPair(1.0) / IntervalPair(Interval(-1, 4)) + IntervalPair(0.5);
+    EXPECT_FALSE(possibly_zero(b));
+    EXPECT_EQ(b.p[0].lower(), -kInf);
+    EXPECT_EQ(b.p[0].upper(), -0.5);
+    EXPECT_EQ(b.p[1].lower(), 0.75);
+    EXPECT_EQ(b.p[1].upper(), kInf);
+    EXPECT_FALSE(b.defined);
+    // Sampled: every quotient lies in a piece.
+    for (double x = -1; x <= 4; x += 0.125) {
+        if (x == 0) continue;
+        const double v = 1 / x + 0.5;
+        EXPECT_TRUE(contains(b.p[0], v) || contains(b.p[1], v)) << x;
+    }
+    // A numerator holding 0: no split (the hull, entire).
+    const IntervalPair c = IntervalPair(Interval(-1, 1)) / IntervalPair(Interval(-1, 1));
+    EXPECT_EQ(c.hull().lower(), -kInf);
+    EXPECT_EQ(c.hull().upper(), kInf);
+    // Pieces are kept apart through monotone and piecewise operations, merged when they meet.
+    const IntervalPair e = exp(b);
+    EXPECT_FALSE(possibly_zero(e - IntervalPair(0.7)));
+    const IntervalPair q = square(b);  // [1/4, ∞) ∪ [9/16, ∞) → [1/4, ∞): one piece
+    EXPECT_TRUE(q.p[1].is_empty());
+    EXPECT_EQ(q.p[0].lower(), 0.25);
+}
+
+TEST(Certified, RootsPastAPoleAreNarrowedAndPolesAloneAreMisses) {
+    // 1/(x − c) + ½ has its pole at x = c and its one zero at x = c − 2 (c the double nearest 0.3:
+    // the zero is not a double). Past the pole the first root was enclosed from the pole on
+    // (width up to 2); rays crossing only the pole ended unknown.
+    const Tape t = tape_of("1 / (x - 0.3) + 0.5");
+    mpfr_t root;
+    mpfr_init2(root, 256);
+    mpfr_set_d(root, 0.3, MPFR_RNDN);
+    mpfr_sub_ui(root, root, 2, MPFR_RNDN);  // exact
+    for (double dx : {-0.7, -1.3, -0.45, -2.1}) {
+        for (double ox : {0.5, 1.0, 2.75}) {
+            const Ray ray{{ox, 0.2, -0.1}, {dx, 0.3, 0.1}, 0, 20};
+            SCOPED_TRACE("o.x " + std::to_string(ox) + " d.x " + std::to_string(dx));
+            expect_hit_at_x(ray, certified_first_root(t, ray), root);
+            // Stopping halfway between the pole and the root: only the pole is crossed.
+            Ray pole_only = ray;
+            pole_only.tmax = (ox - 0.3 + 1) / -dx;
+            EXPECT_EQ(certified_first_root(t, pole_only).status, Status::Miss);
+            // From the other side: the root first, then the pole.
+            const Ray back{{-3, 0, 0.5}, {-dx, 0.1, 0}, 0, 20};
+            expect_hit_at_x(back, certified_first_root(t, back), root);
+        }
+    }
+    mpfr_clear(root);
+}
+
+TEST(Certified, TanAsSinOverCosHasRootsAtMultiplesOfPi) {
+    // sin x / cos x: zeros at kπ, poles at π/2 + kπ (a sign change there, never a zero).
+    const Tape t = tape_of("sin(x) / cos(x)");
+    mpfr_t kpi;
+    mpfr_init2(kpi, 256);
+    struct C {
+        double ox, dx;
+        int k;  // the first root is kπ
+    };
+    for (const C c : {C{0.5, 0.9, 1}, C{0.5, 2.3, 1}, C{3.5, 1.3, 2}, C{-0.5, -1, -1},
+                      C{-3.5, -0.6, -2}, C{7.0, 1.7, 3}, C{1.0, 0.31, 1}}) {
+        SCOPED_TRACE("o.x " + std::to_string(c.ox) + " d.x " + std::to_string(c.dx));
+        mpfr_const_pi(kpi, MPFR_RNDN);
+        mpfr_mul_si(kpi, kpi, c.k, MPFR_RNDN);
+        const Ray ray{{c.ox, 0.25, 0}, {c.dx, -0.5, 1}, 0, 30};
+        // x = o + t·d is rounded at |x| up to 3π (an ulp of 1.8e-15, 8 ulps of t = 1.4 there):
+        // the enclosure in t can be no narrower than that.
+        expect_hit_at_x(ray, certified_first_root(t, ray), kpi, 16);
+        // Up to just before kπ: the pole π/2 + (k ∓ 1)π is crossed, no zero.
+        mpfr_t tk;
+        mpfr_init2(tk, 256);
+        mpfr_sub_d(tk, kpi, c.ox, MPFR_RNDN);
+        mpfr_div_d(tk, tk, c.dx, MPFR_RNDN);
+        Ray pole_only = ray;
+        pole_only.tmax = 0.98 * mpfr_get_d(tk, MPFR_RNDN);
+        mpfr_clear(tk);
+        EXPECT_EQ(certified_first_root(t, pole_only).status, Status::Miss);
+        EXPECT_EQ(certified_first_root_reference(t, pole_only).status, Status::Miss);
+    }
+    mpfr_clear(kpi);
 }
 
 TEST(Certified, BudgetEndsWithUnknown) {
