@@ -34,6 +34,7 @@
 #include "expr/load.h"
 #include "expr/prune.h"
 #include "solvers/certified.h"
+#include "solvers/exact.h"
 #include "solvers/ray_io.h"
 #include "tracers/camera.h"
 #include "tracers/image2d.h"
@@ -239,6 +240,7 @@ std::vector<Scene> load_stress(const std::string& path) {
         s.rays.push_back({{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, v[6], v[7]});
         s.truth.push_back(t);
         s.cases.push_back(f[0]);
+        ++s.judged_by["mpmath brackets (scenes/stress/make_stress.py)"];
     }
     return scenes;
 }
@@ -297,12 +299,26 @@ void compute_references(Scene& s, unsigned threads, Progress& progress) {
     const std::size_t n = s.rays.size();
     s.truth.assign(n, Truth{});
     s.ref_us.assign(n, 0);
+    // The judge shares no code with the certified solver where it can: on polynomial scenes the
+    // exact rational oracle (solvers/exact.h: Sturm sequences on g's rational coefficients); else
+    // (or when the oracle gives up) the MPFR reference, which is the certified solver's logic run
+    // in 256-bit MPFR intervals.
+    const bool polynomial = solvers::is_polynomial(s.tape);
+    std::vector<char> exact(n, 0);
     parallel_for(threads, n, [&](std::size_t i, bool) {
         const auto t0 = Clock::now();
-        const RayResult r = solvers::certified_first_root_reference(s.tape, s.rays[i]);
+        RayResult r;
+        if (polynomial) {
+            r = solvers::exact_first_root(s.tape, s.rays[i]);
+            exact[i] = r.status != Status::Unknown;
+        }
+        if (!exact[i]) r = solvers::certified_first_root_reference(s.tape, s.rays[i]);
         s.ref_us[i] = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
         s.truth[i] = truth_of(r);
     });
+    for (std::size_t i = 0; i < n; ++i) {
+        ++s.judged_by[exact[i] ? "exact rational (Sturm)" : "MPFR reference"];
+    }
     progress.add(n, "reference " + s.name);
 }
 

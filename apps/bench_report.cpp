@@ -144,6 +144,19 @@ std::string make_report(const BenchOptions& o, const Study& st, unsigned threads
     if (cert.empty()) md += "No certified method was run.\n";
     md += "\n";
 
+    // Who judged which rays: an oracle that shares no code with the certified solver where one
+    // exists (exact rationals on polynomial scenes, mpmath brackets on the stress suite).
+    md += "### The judges\n\n| ray set | scene | judge | rays |\n| --- | --- | --- | --- |\n";
+    for (const std::vector<Scene>* suite : {&st.gallery, &st.stress}) {
+        for (const Scene& sc : *suite) {
+            for (const auto& [judge, count] : sc.judged_by) {
+                md += "| " + sc.suite + " | " + sc.name + " | " + judge + " | " +
+                      std::to_string(count) + " |\n";
+            }
+        }
+    }
+    md += "\n";
+
     // Winners per gallery scene.
     std::map<std::string, std::vector<const Summary*>> by_scene;
     for (const Summary& m : st.summaries) {

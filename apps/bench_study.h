@@ -59,6 +59,8 @@ struct Scene {
     std::vector<Truth> truth;
     std::vector<std::string> cases;  ///< stress case names (empty for the gallery)
     std::vector<double> ref_us;      ///< reference time per ray (gallery)
+    /// Rays judged by each judge ("exact rational (Sturm)", "MPFR reference", "mpmath brackets").
+    std::map<std::string, std::size_t> judged_by;
 };
 
 /// One measurement.
