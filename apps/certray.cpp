@@ -154,6 +154,11 @@ int main(int argc, char** argv) {
                            "3D picture: shade (default; Lambert, miss = background, unknown = "
                            "magenta), depth, steps (evaluations per pixel, log colour ramp), "
                            "normal, status (hit white, miss blue, unknown magenta)");
+    cmd_render->add_option("--data", render.data,
+                           "Also write the AOV's values as float data, FILE.npy (NumPy, float32) "
+                           "or FILE.pfm: depth = hit t (NaN elsewhere), steps = evaluations, "
+                           "status = 0 hit, 1 miss, 2 unknown, normal = 3 channels (3D only; "
+                           "not with shade)");
     cmd_render->add_flag("-q,--quiet", render.quiet,
                          "No progress and no notes on stderr (errors are still printed)");
     cmd_render

@@ -19,6 +19,7 @@
 #include "expr/parser.h"
 #include "expr/scene_import.h"
 #include "expr/tape.h"
+#include "tracers/aov_data.h"
 #include "tracers/camera.h"
 #include "tracers/image2d.h"
 #include "tracers/methods.h"
@@ -188,6 +189,7 @@ int render_2d_scene(const RenderCliOptions& o, const expr::Tape& tape, const Sce
     if (o.aov) given += ", --aov";
     if (o.budget) given += ", --budget";
     if (o.epsilon) given += ", --epsilon";
+    if (o.data) given += ", --data";
     if (!given.empty()) {
         const bool one = given.find(',', 1) == std::string::npos;
         std::cerr << "certray render: " << given.substr(2)
@@ -287,6 +289,22 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
                   << "'; expected shade, depth, steps, normal or status\n";
         return 2;
     }
+    std::string data_ext;
+    if (o.data) {
+        data_ext = fs::path(*o.data).extension().string();
+        std::transform(data_ext.begin(), data_ext.end(), data_ext.begin(),
+                       [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+        if (data_ext != ".npy" && data_ext != ".pfm") {
+            std::cerr << "certray render: cannot write '" << *o.data
+                      << "': --data takes .npy or .pfm\n";
+            return 2;
+        }
+        if (aov == tracers::Aov::Shade) {
+            std::cerr << "certray render: --data needs --aov depth, steps, normal or status "
+                         "(shade is a picture, not data)\n";
+            return 2;
+        }
+    }
     if (!o.bounds.empty() && !(o.bounds.size() == 2 && o.bounds[0] < o.bounds[1])) {
         std::cerr << "certray render: --bounds needs two numbers lo < hi\n";
         return 2;
@@ -372,6 +390,22 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
     }
     report.finish();
     tracers::write_png(o.out, r.image);
+    if (o.data) {
+        const tracers::FloatImage data = tracers::aov_data(r.answers, aov);
+        if (data_ext == ".npy") {
+            tracers::write_npy(*o.data, data);
+        } else {
+            tracers::write_pfm(*o.data, data);
+        }
+    }
+    if (aov == tracers::Aov::Depth || aov == tracers::Aov::Steps) {
+        const tracers::AovRange range = tracers::aov_range(r.answers, aov);
+        if (range.lo <= range.hi) {
+            out << (aov == tracers::Aov::Depth ? "depth: hit t from " : "steps: evaluations from ")
+                << range.lo << (aov == tracers::Aov::Depth ? " (bright) to " : " to ") << range.hi
+                << " (colour bar at the bottom right, left to right)\n";
+        }
+    }
     const unsigned threads =
         o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
     out << "3D scene " << rs.width << "x" << rs.height << ", method " << method << ", aov "

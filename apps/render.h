@@ -35,6 +35,7 @@ struct RenderCliOptions {
     std::optional<std::uint64_t> budget;  ///< evaluations per ray before unknown
     std::optional<double> epsilon;        ///< convergence distance of the tracers
     bool quiet = false;                   ///< no progress and no notes on stderr
+    std::optional<std::string> data;      ///< also the AOV as float data: .npy or .pfm (3D)
 };
 
 /// Largest accepted image side.

@@ -66,6 +66,33 @@ bool parse_aov(std::string_view name, Aov& aov) {
     return false;
 }
 
+namespace {
+
+/// The colour bar of a depth or steps image, bottom right: its left end is the least value (depth:
+/// the nearest hit, bright; steps: 0 evaluations) and its right end the greatest, in the image's
+/// own ramp, inside a dark frame. Images smaller than 32×24 get none.
+void draw_legend(RgbImage& img, Aov aov) {
+    if (img.width < 32 || img.height < 24) return;
+    const unsigned w = std::max(16u, img.width / 4), h = std::max(4u, img.height / 24);
+    const unsigned i0 = img.width - w - 4, j0 = img.height - h - 4;
+    for (unsigned j = j0 - 1; j <= j0 + h; ++j) {
+        for (unsigned i = i0 - 1; i <= i0 + w; ++i) {
+            double r = 0.1, g = 0.1, b = 0.1;  // the frame
+            if (j >= j0 && j < j0 + h && i >= i0 && i < i0 + w) {
+                const double f = (i - i0) / static_cast<double>(w - 1);
+                if (aov == Aov::Depth) {
+                    r = g = b = 1.0 - 0.85 * f;
+                } else {
+                    ramp(f, r, g, b);
+                }
+            }
+            put(img, i, j, r, g, b);
+        }
+    }
+}
+
+}  // namespace
+
 RgbImage colorize(const PixelAnswers& ans, Aov aov, const Vec3& light) {
     RgbImage img(ans.width, ans.height);
     const Vec3 l = normalize(light);
@@ -133,7 +160,20 @@ RgbImage colorize(const PixelAnswers& ans, Aov aov, const Vec3& light) {
             put(img, i, j, r, g, b);
         }
     }
+    if (aov == Aov::Depth || aov == Aov::Steps) draw_legend(img, aov);
     return img;
+}
+
+AovRange aov_range(const PixelAnswers& ans, Aov aov) {
+    AovRange r;
+    for (std::size_t k = 0; k < ans.status.size(); ++k) {
+        const double v = aov == Aov::Depth ? (ans.status[k] == Status::Hit ? ans.t[k] : NAN)
+                                           : static_cast<double>(ans.evals[k]);
+        if (std::isnan(v)) continue;
+        r.lo = std::min(r.lo, v);
+        r.hi = std::max(r.hi, v);
+    }
+    return r;
 }
 
 RenderResult render_3d(const expr::Tape& tape, const RayFunction& method,

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -73,7 +74,17 @@ struct RenderResult {
 RenderResult render_3d(const expr::Tape& tape, const RayFunction& method,
                        const RenderOptions& options);
 
-/// Colours answers as `aov` (used by render_3d; exposed to recolour without re-tracing).
+/// The range of values a depth image (hit t) or a steps image (evaluations per pixel) shows; for
+/// other AOVs and images without a hit, lo > hi.
+struct AovRange {
+    double lo = std::numeric_limits<double>::infinity();
+    double hi = -std::numeric_limits<double>::infinity();
+};
+AovRange aov_range(const PixelAnswers& answers, Aov aov);
+
+/// Colours answers as `aov` (used by render_3d; exposed to recolour without re-tracing). Depth and
+/// steps images carry a colour bar at the bottom right (least value left, greatest right; the
+/// values: aov_range).
 RgbImage colorize(const PixelAnswers& answers, Aov aov, const Vec3& light);
 
 }  // namespace certray::tracers

@@ -5,10 +5,13 @@
 #include <stdlib.h>
 #include <sys/wait.h>
 
+#include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "tests/support/cli_fixture.h"
 #include "tracers/png_io.h"
@@ -39,6 +42,61 @@ TEST_F(RenderCli, Renders3dScene) {
         EXPECT_NE(out_.find("unknown 0"), std::string::npos) << out_;
         EXPECT_FALSE(fs::exists(path("out.png.tmp")));
     }
+}
+
+/// The float32 values of a .npy file written by certray (version 1.0, little-endian, C order).
+std::vector<float> read_npy(const fs::path& p, std::string& header) {
+    const std::string bytes = certray::testing::slurp(p);
+    EXPECT_EQ(bytes.substr(0, 6), "\x93NUMPY");
+    const std::size_t len = static_cast<unsigned char>(bytes[8]) |
+                            (static_cast<std::size_t>(static_cast<unsigned char>(bytes[9])) << 8);
+    header = bytes.substr(10, len);
+    EXPECT_EQ((10 + len) % 64, 0u);
+    std::vector<float> v((bytes.size() - 10 - len) / 4);
+    std::memcpy(v.data(), bytes.data() + 10 + len, v.size() * 4);
+    return v;
+}
+
+TEST_F(RenderCli, AovsAsFloatDataAndWithAColourBar) {
+    // From (0, -5, 0) towards the centre, the middle pixel of a 41x31 image looks along +y: the
+    // unit sphere is met at t = 4; the corners miss it.
+    write("cam.json", R"({"scene": "sphere.expr", "camera": {"eye": [0, -5, 0], "target": [0, 0, 0],
+        "up": [0, 0, 1], "fov": 30}})");
+    ASSERT_EQ(run("render cam.json -o d.png --size 41x31 --aov depth --data d.npy"), 0) << err_;
+    std::string header;
+    const std::vector<float> depth = read_npy(path("d.npy"), header);
+    EXPECT_NE(header.find("'descr': '<f4'"), std::string::npos) << header;
+    EXPECT_NE(header.find("'shape': (31, 41)"), std::string::npos) << header;
+    ASSERT_EQ(depth.size(), 41u * 31u);
+    EXPECT_NEAR(depth[15 * 41 + 20], 4.0f, 1e-5f);
+    EXPECT_TRUE(std::isnan(depth[0]));
+    EXPECT_NE(out_.find("depth: hit t from 4"), std::string::npos) << out_;
+    // status as data: 0 hit, 1 miss; normal as 3 channels; pfm rows bottom up.
+    ASSERT_EQ(run("render cam.json -o s.png --size 41x31 --aov status --data s.pfm"), 0) << err_;
+    const std::string pfm = certray::testing::slurp(path("s.pfm"));
+    const std::string head = "Pf\n41 31\n-1.0\n";
+    ASSERT_EQ(pfm.substr(0, head.size()), head);
+    std::vector<float> status(41 * 31);
+    std::memcpy(status.data(), pfm.data() + head.size(), status.size() * 4);
+    EXPECT_EQ(status[15 * 41 + 20], 0.0f);  // the middle row is the middle row either way
+    EXPECT_EQ(status[0], 1.0f);
+    ASSERT_EQ(run("render cam.json -o n.png --size 41x31 --aov normal --data n.npy"), 0) << err_;
+    const std::vector<float> normal = read_npy(path("n.npy"), header);
+    EXPECT_NE(header.find("'shape': (31, 41, 3)"), std::string::npos) << header;
+    // The middle pixel sees the sphere at (0, -1, 0): the normal facing the camera is (0, -1, 0).
+    EXPECT_NEAR(normal[3 * (15 * 41 + 20) + 1], -1.0f, 1e-3f);
+    // Shade is not data; other extensions are refused; nothing is left behind.
+    EXPECT_EQ(run("render cam.json -o x.png --size 41x31 --data x.npy"), 2);
+    EXPECT_EQ(run("render cam.json -o x.png --size 41x31 --aov depth --data x.csv"), 2);
+    EXPECT_FALSE(fs::exists(path("x.png")));
+    // The colour bar of a 64x48 depth image: 16x4 pixels at (44, 40), bright (near) on the left,
+    // dark (far) on the right, in a dark frame.
+    ASSERT_EQ(run("render cam.json -o bar.png --size 64x48 --aov depth"), 0) << err_;
+    const certray::tracers::RgbImage bar = certray::tracers::read_png(path("bar.png").string());
+    EXPECT_EQ(bar.at(44, 41)[0], 255);
+    EXPECT_LT(bar.at(59, 41)[0], 45);
+    EXPECT_LT(bar.at(43, 41)[0], 30);
+    EXPECT_GT(bar.at(51, 41)[0], bar.at(52, 41)[0]);
 }
 
 TEST_F(RenderCli, Renders2dSceneWithExactCount) {
