@@ -159,6 +159,14 @@ int main(int argc, char** argv) {
                            "or FILE.pfm: depth = hit t (NaN elsewhere), steps = evaluations, "
                            "status = 0 hit, 1 miss, 2 unknown, normal = 3 channels (3D only; "
                            "not with shade)");
+    cmd_render->add_option("--eye", render.eye, "Camera position X Y Z (default: auto-framed)")
+        ->expected(3);
+    cmd_render->add_option("--target", render.target, "Point the camera looks at, X Y Z")
+        ->expected(3);
+    cmd_render->add_option("--up", render.up, "Camera up direction X Y Z (default 0 0 1)")
+        ->expected(3);
+    cmd_render->add_option("--fov", render.fov, "Vertical field of view in degrees (default 35)")
+        ->check(CLI::Range(1.0, 179.0));
     cmd_render->add_flag("-q,--quiet", render.quiet,
                          "No progress and no notes on stderr (errors are still printed)");
     cmd_render

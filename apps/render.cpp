@@ -190,6 +190,10 @@ int render_2d_scene(const RenderCliOptions& o, const expr::Tape& tape, const Sce
     if (o.budget) given += ", --budget";
     if (o.epsilon) given += ", --epsilon";
     if (o.data) given += ", --data";
+    if (!o.eye.empty()) given += ", --eye";
+    if (!o.target.empty()) given += ", --target";
+    if (!o.up.empty()) given += ", --up";
+    if (o.fov) given += ", --fov";
     if (!given.empty()) {
         const bool one = given.find(',', 1) == std::string::npos;
         std::cerr << "certray render: " << given.substr(2)
@@ -357,6 +361,7 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
     if (spec.camera && spec.camera->contains("fov")) {
         rs.fov_degrees = (*spec.camera)["fov"].get<double>();
     }
+    if (o.fov) rs.fov_degrees = *o.fov;
     const Scene scene = Scene::from_graph(spec.graph);
     // Auto-framed (the cells where the surface may be, seen whole), then the JSON's camera keys.
     if (!o.quiet && surface_reaches_bounds(scene, render_bounds(scene, rs))) {
@@ -374,6 +379,12 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
         if (c.contains("target")) camera.target = read_vec3(o.scene, c["target"], "camera.target");
         if (c.contains("up")) camera.up = read_vec3(o.scene, c["up"], "camera.up");
     }
+    // The command line's camera over the JSON's and the framing.
+    auto vec = [](const std::vector<double>& v) { return Vec3{v[0], v[1], v[2]}; };
+    if (!o.eye.empty()) camera.eye = vec(o.eye);
+    if (!o.target.empty()) camera.target = vec(o.target);
+    if (!o.up.empty()) camera.up = vec(o.up);
+    camera.fov_degrees = rs.fov_degrees;
     rs.camera = camera;
     ProgressReport report("certray render", work, progress_mode_for_stderr(o.quiet));
     tracers::RenderResult r;

@@ -36,6 +36,8 @@ struct RenderCliOptions {
     std::optional<double> epsilon;        ///< convergence distance of the tracers
     bool quiet = false;                   ///< no progress and no notes on stderr
     std::optional<std::string> data;      ///< also the AOV as float data: .npy or .pfm (3D)
+    std::vector<double> eye, target, up;  ///< the camera, overriding framing and JSON (3D)
+    std::optional<double> fov;            ///< vertical field of view in degrees (3D)
 };
 
 /// Largest accepted image side.

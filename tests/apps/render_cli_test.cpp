@@ -99,6 +99,23 @@ TEST_F(RenderCli, AovsAsFloatDataAndWithAColourBar) {
     EXPECT_GT(bar.at(51, 41)[0], bar.at(52, 41)[0]);
 }
 
+TEST_F(RenderCli, CameraFlagsAsInTheJson) {
+    // The same camera as AovsAsFloatDataAndWithAColourBar's JSON: the middle pixel meets the unit
+    // sphere at t = 4.
+    ASSERT_EQ(run("render sphere.expr -o d.png --size 41x31 --aov depth --data d.npy --eye 0 -5 0 "
+                  "--target 0 0 0 --up 0 0 1 --fov 30"),
+              0)
+        << err_;
+    std::string header;
+    const std::vector<float> depth = read_npy(path("d.npy"), header);
+    ASSERT_EQ(depth.size(), 41u * 31u);
+    EXPECT_NEAR(depth[15 * 41 + 20], 4.0f, 1e-5f);
+    // A 2D scene takes no camera.
+    EXPECT_EQ(run("render disk.expr -o x.png --eye 0 -5 0"), 2);
+    EXPECT_NE(err_.find("--eye"), std::string::npos) << err_;
+    EXPECT_EQ(run("render sphere.expr -o x.png --eye 0 -5"), 2);  // three numbers
+}
+
 TEST_F(RenderCli, Renders2dSceneWithExactCount) {
     // 64×64 over [−1, 1]²: centres (2i + 1 − 64)/64 exactly, so f < 0 ⇔ a² + b² < 0.5625·64².
     long expected = 0;
