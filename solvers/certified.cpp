@@ -465,7 +465,10 @@ RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
     NearestScope env;  // sound in any caller's floating-point environment (interval/interval.h)
     thread_local Scratch<Interval> scratch;
     RayResult r = Solver<Interval>(tape, ray, options, scratch).solve();
-    if (r.status == Status::Miss || (r.status == Status::Hit && narrow(r.t_lo, r.t_hi))) return r;
+    if (r.status == Status::Miss ||
+        (r.status == Status::Hit && (!options.tighten || narrow(r.t_lo, r.t_hi)))) {
+        return r;
+    }
     // Undecided or wide: on a polynomial scene the exact oracle decides, within what is left of
     // the budget (its evaluations added). It is never less certain than this answer.
     const std::uint64_t spent = r.evals.total();

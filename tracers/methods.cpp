@@ -78,6 +78,7 @@ RayFunction make_certified(const expr::Tape& tape, const MethodOptions& o, bool 
     solvers::CertifiedOptions opt;
     opt.budget = o.budget;
     opt.affine = affine;
+    opt.tighten = o.tighten != 0;
     return [&tape, opt](const Ray& ray) { return solvers::certified_first_root(tape, ray, opt); };
 }
 
@@ -155,7 +156,7 @@ const std::vector<Entry>& entries() {
         {{"certified",
           true,
           "interval bisection with interval Newton (Snyder 1992)",
-          {"budget"},
+          {"budget", "tighten"},
           {{"budget", {30, 100, 1000, 20000}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_certified(tape, o, false);
@@ -165,7 +166,7 @@ const std::vector<Entry>& entries() {
           "certified, where the interval enclosure of g over a parameter interval holds 0 it is "
           "intersected with the affine form of g in t (tighter on long segments; one more "
           "evaluation)",
-          {"budget"},
+          {"budget", "tighten"},
           {{"budget", {30, 100, 1000, 20000}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_certified(tape, o, true);
@@ -224,13 +225,14 @@ const std::vector<Entry>& entries() {
           "certified, accelerated by an octree over the bounds (default [-2,2]^3, --depth 5): "
           "empty and full cells skipped, each ambiguous cell solved with its pruned tape; the ray "
           "outside the bounds with the full tape",
-          {"budget", "bounds", "depth"},
+          {"budget", "bounds", "depth", "tighten"},
           {{"budget", {30, 100, 1000, 20000}}, {"depth", {3, 7}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto tree = std::make_shared<const Octree>(
                  tape, octree_bounds(o), OctreeOptions{o.depth, std::size_t{1} << 20});
              solvers::CertifiedOptions opt;
              opt.budget = o.budget;
+             opt.tighten = o.tighten != 0;
              return [tree, opt](const Ray& ray) { return tree->certified(ray, opt); };
          }},
         {{"octree",
@@ -324,13 +326,14 @@ const std::vector<Entry>& entries() {
           "the ambiguous cells of an octree over the bounds (default [-2,2]^3, --depth 5): parts "
           "of a cell's segment excluded by the model, the rest finished by the certified solver "
           "on the pruned tape; the ray outside the bounds with the full tape",
-          {"budget", "bounds", "depth"},
+          {"budget", "bounds", "depth", "tighten"},
           {{"depth", {3, 5, 7}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto approx =
                  std::make_shared<const Approx>(tape, octree_bounds(o), approx_options(o));
              solvers::CertifiedOptions opt;
              opt.budget = o.budget;
+             opt.tighten = o.tighten != 0;
              return [approx, opt](const Ray& ray) { return approx->certified(ray, opt); };
          }},
         {{"taylor-plain",
@@ -388,6 +391,11 @@ const std::vector<Knob>& knobs() {
         {"depth", KnobKind::Integer, "subdivision depth of the octree methods", 0, 10,
          [](const MethodOptions& o) { return static_cast<double>(o.depth); },
          [](MethodOptions& o, double v) { o.depth = static_cast<int>(v); }},
+        {"tighten", KnobKind::Integer,
+         "1: a polynomial scene's hits wider than 4 ulps are re-decided in exact rational "
+         "arithmetic; 0: the interval enclosure is kept (faster, still proven)",
+         0, 1, [](const MethodOptions& o) { return static_cast<double>(o.tighten); },
+         [](MethodOptions& o, double v) { o.tighten = static_cast<int>(v); }},
         {"bounds", KnobKind::Bounds,
          "the scene bounds, the cube [lo, hi]^3: where global constants and octrees are computed "
          "(unset: each ray's own segment; octrees and bounding volumes [-2, 2]^3)",
