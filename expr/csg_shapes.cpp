@@ -12,9 +12,20 @@ namespace {
 Expr half(Graph& g, double v) { return constant(g, v) * 0.5; }
 
 /// ‖max((a, b), 0)‖ + min(max(a, b), 0): the distance to the quadrant {a ≤ 0, b ≤ 0}, exact
-/// inside and outside.
+/// inside and outside. Written max(a, b, min(‖max((a, b), 0)‖, a + b)), the same function (both
+/// ≤ 0: a + b ≤ 0 and max(a, b) wins; one > 0: the norm is that one, a + b is below it; both > 0:
+/// the norm is below a + b and above a and b), so that inside the norm of (0, 0), whose derivative
+/// does not exist, is never the branch taken: the gradient (shading normals) stays finite.
 Expr quadrant(const Expr& a, const Expr& b) {
-    return min(max(a, b), 0.0) + sqrt(square(max(a, 0.0)) + square(max(b, 0.0)));
+    const Expr norm = sqrt(square(max(a, 0.0)) + square(max(b, 0.0)));
+    return max(max(a, b), min(norm, a + b));
+}
+
+/// min(a, 0) + ‖(max(a, 0), o)‖ for o ≥ 0, written min(a + o, ‖(max(a, 0), o)‖): the same
+/// function (a < 0: the norm is o ≥ a + o; a ≥ 0: the norm is at most a + o), with a finite
+/// gradient where a < 0 and o = 0.
+Expr half_quadrant(const Expr& a, const Expr& o) {
+    return min(a + o, sqrt(square(max(a, 0.0)) + square(o)));
 }
 
 /// Their sdRoundBox for the corner u > 0, v > 0: half sides (hx, hz), corner radius r;
@@ -71,10 +82,12 @@ Expr cone(const Local& q, double height, double radius) {
     // (R, −H) and slanted side S from the rim (R, −H) to the apex (0, H), H = height/2. With p
     // the point relative to the rim and e = (−R, 2H) the rim-to-apex vector, their sdCone is
     // max(Φ, Ψ) (docs/guide/formats.md):
-    //   Φ = min(L, 0) + sqrt(max(L, 0)² + o²): L the signed distance to the line of S (outward
-    //       normal (2H, R)/‖e‖), o how far the projection falls outside S along e;
-    //   Ψ = min(−p.y, 0) + sqrt(max(−p.y, 0)² + max(p.x, 0)²): the same for the base.
-    // Here L′ = ‖e‖·L, s′ = e·p, o′ = ‖e‖·o, and Φ = (min(L′, 0) + ‖(max(L′, 0), o′)‖)/‖e‖.
+    //   Φ = min(L, 0) + ‖(max(L, 0), o)‖: L the signed distance to the line of S (outward normal
+    //       (2H, R)/‖e‖), o ≥ 0 how far the projection of p falls outside S along e;
+    //   Ψ = quadrant(−p.y, p.x): the distance to {p.y ≥ 0, p.x ≤ 0} (above the base, within the
+    //       rim's radius). Inside the triangle p.x ≤ L (the side is nearer horizontally than the
+    //       rim), so max(Φ, Ψ) = max(L, −p.y) there, as in their code.
+    // Here L′ = ‖e‖·L, s′ = e·p, o′ = ‖e‖·o, and Φ = half_quadrant(L′, o′)/‖e‖.
     Graph& g = *q.x.graph;
     const Expr rho = sqrt(square(q.x) + square(q.z));
     const Expr px = rho - radius;
@@ -83,9 +96,8 @@ Expr cone(const Local& q, double height, double radius) {
     const Expr s = height * py - radius * px;
     const Expr e2 = constant(g, radius) * radius + constant(g, height) * height;  // ‖e‖²
     const Expr o = max(max(-s, s - e2), 0.0);
-    const Expr phi = (min(l, 0.0) + sqrt(square(max(l, 0.0)) + square(o))) / sqrt(e2);
-    const Expr mpy = -py;
-    const Expr psi = min(mpy, 0.0) + sqrt(square(max(mpy, 0.0)) + square(max(px, 0.0)));
+    const Expr phi = half_quadrant(l, o) / sqrt(e2);
+    const Expr psi = quadrant(-py, px);
     return max(phi, psi);
 }
 
