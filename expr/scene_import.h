@@ -41,13 +41,16 @@ struct CsgScene {
     std::array<double, 3> bounds_max{0, 0, 0};
 };
 
-/// Reads a Lipschitz-Pruning JSON tree. Nodes: "primitive" with primitiveType "sphere" (radius) or
-/// "cylinder" (height along local y, radius), and "binaryOperator" with blendMode "union", "inter"
-/// or "sub" and blendRadius k. Every node has a 3×4 row-major "matrix"; the point seen by a
-/// primitive is M_root·…·M_parent·M_prim·p (world to primitive, as the authors' loader). Binary
-/// operators, with s = +1 for union, −1 otherwise, b negated for sub:
-///   s·(min(s·a, s·b) − K(|a − b|)),  K(x) = max(k − x, 0)²/(4k) (0 when k = 0).
-/// Other node types throw InputError naming the node (its pre-order index and type).
+/// Reads a Lipschitz-Pruning JSON tree (their format in full; docs/guide/formats.md). Nodes:
+/// "primitive" with primitiveType "sphere" (radius), "box" (sides, bevel, round_x, round_y),
+/// "cylinder" or "cone" (height along local y, radius), and "binaryOperator" with blendMode
+/// "union", "inter" or "sub", blendRadius k ≥ 0, leftChild and rightChild; the shapes and blends
+/// are those of expr/csg_shapes.h. Every node has a 3×4 row-major "matrix"; the point seen by a
+/// primitive is M_root·…·M_parent·M_prim·p (world to primitive, as the authors' loader). The root
+/// may give aabb_min and aabb_max. "color" (and round_x, round_y on a non-box) carry no geometry
+/// and are ignored. A missing, malformed or unknown field, or an unknown nodeType, primitiveType
+/// or blendMode, throws InputError naming the node — "node N (path)", N its pre-order index and
+/// path its leftChild/rightChild steps from the root — and the field.
 CsgScene import_csg_json(std::istream& in, const std::string& file = "<stream>");
 
 /// import_csg_json on the file at `path`.
