@@ -12,6 +12,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "expr/derived.h"  // Fast<Dual<Interval, N>>: one definition of Evaluator<Dual<…>>
 #include "expr/eval.h"
 #include "interval/affine.h"
 #include "interval/dual.h"
@@ -195,13 +196,17 @@ Interval Solver<E>::reach(const Interval& t, const Interval& ga, const Interval&
     }
     // g(s) ≤ hi(ga) + hi(G′)·(s − a) < 0 once s − a > hi(ga) / −hi(G′): a candidate for the
     // inside, rounded up, then proven (or not) by its own point evaluation.
-    if (dg.upper() < 0 && ga.upper() >= 0 && !out_of_budget()) {
+    // Where rounding blurs g(r), the step is doubled, up to 2⁷ times.
+    if (dg.upper() < 0 && ga.upper() >= 0) {
         const double step = (Interval(ga.upper()) / Interval(-dg.upper())).upper();
-        const double r = std::nextafter((Interval(t.lower()) + Interval(step)).upper(), kInf);
-        if (a < r && r < b) {
+        const double r0 = std::nextafter((Interval(t.lower()) + Interval(step)).upper(), kInf);
+        for (int k = 0; k < 8 && !out_of_budget(); ++k) {
+            const double r = k == 0 ? r0 : t.lower() + std::ldexp(r0 - t.lower(), k);
+            if (!(a < r && r < b)) break;
             if (proven_neg(g_at(r))) {
                 set_neg(r);
                 b = r;
+                break;
             }
         }
     }
@@ -250,6 +255,23 @@ RayResult Solver<E>::solve() {
         if (proven_neg(ga)) {
             set_neg(a);
             continue;
+        }
+        if (!proven_nonneg(ga) && !std::isnan(neg_)) {
+            // The answer's t_lo is final: every enclosure of g over a set holding a also holds
+            // the point enclosure ga (inclusion monotonicity), so nothing starting at a is ever
+            // proven ≥ 0. Only t_hi can still move left: bisect [a, neg_] with point evaluations
+            // for a proven-inside point nearer to a.
+            const double lo = std::isnan(cand_lo_) ? a : cand_lo_;
+            double left = a;
+            while (splittable(left, neg_) && !out_of_budget()) {
+                const double m = midpoint(Interval(left, neg_));
+                if (proven_neg(g_at(m))) {
+                    neg_ = m;
+                } else {
+                    left = m;
+                }
+            }
+            return finish(Status::Hit, lo, neg_);
         }
         double b = t.upper();
         if (!splittable(a, b)) {  // a leaf: [a, b] adjacent doubles (or a point)
