@@ -352,7 +352,9 @@ RC_GTEST_PROP(SolidProperty, AnswersHoldInMpfr, ()) {
     SolidOptions opt;
     opt.budget = 4000;
     opt.affine = *rc::gen::arbitrary<bool>();
-    check_in_mpfr(t, ray, solid_first_entry(t, ray, opt));
+    const RayResult res = solid_first_entry(t, ray, opt);
+    RC_TAG(name(res.status));
+    check_in_mpfr(t, ray, res);
 }
 
 // The double solver and the MPFR reference agree: two hits overlap (both hold the first entry), and
