@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -85,6 +86,10 @@ class G {
         const MpfrInterval& d = r.v[0];
         return !r.a.is_empty() && r.a.defined && !d.is_empty() &&
                (mpfr_sgn(d.lo()) > 0 || mpfr_sgn(d.hi()) < 0);
+    }
+    /// The end a + (b − a)·k·2⁻ⁿ of a piece, as a (degenerate in practice) MPFR interval.
+    MpfrInterval node(double a, double b, double k, int n) const {
+        return mi(a) + (mi(b) - mi(a)) * (mi(k) * mi(std::ldexp(1.0, -n)));
     }
     /// [a, b] with a finite and b possibly +inf.
     MpfrInterval span(double a, double b) const { return MpfrInterval(a, b, Precision{prec_}); }
@@ -163,57 +168,74 @@ bool prove_zero(const G& g, double a, double b, int samples, long continuity_bud
     return false;
 }
 
-/// Where an exclusion gave up: the hull of the first piece it could not exclude, in doubles.
+/// Where an exclusion stopped: the hull of the piece it could not exclude (or where it proved a
+/// zero), in doubles.
 struct Stuck {
     double lo = 0, hi = 0;
 };
 
-/// No zero of g on [a, b] (or [a, b) when open_right; a ≤ b finite): adaptive subdivision until
-/// every piece's enclosure excludes 0. Spends `*budget`; false when it runs out or a piece cannot
-/// be split further, with that piece in `*stuck`. For [a, b) with g(b) = 0 exactly, the pieces
-/// [c, b] are excluded by monotonicity: g continuous on [c, b] with g′ (both one-sided
-/// derivatives at kinks) bounded away from 0 has b as its only zero there.
-bool exclude_segment(const G& g, double a, double b, bool open_right, long* budget, Stuck* stuck) {
-    if (open_right && a == b) return true;  // [a, a) is empty
-    const bool zero_at_b = open_right && sign_at(g, b) == 0;
+enum class Cover {
+    Excluded,  // no zero
+    GaveUp,    // budget or depth spent
+    Zero,      // a zero proven (in [lo, hi] of Stuck)
+};
+
+/// +1 / −1 when every member of v is positive / negative, else 0.
+int strict_sign(const MpfrInterval& v) {
+    if (v.is_empty()) return 0;
+    return mpfr_sgn(v.lo()) > 0 ? 1 : mpfr_sgn(v.hi()) < 0 ? -1 : 0;
+}
+
+/// No zero of g on [a, b] (or [a, b) when open_right; a ≤ b finite) by adaptive subdivision.
+/// A piece T = [c, d] is done when g's enclosure over it excludes 0, or when g is monotone on it
+/// (continuous, g′ — both one-sided derivatives at kinks — bounded away from 0) and g(c), g(d)
+/// have the same strict sign, or, for [a, b) with g(b) = 0 exactly, when T ends at b and g is
+/// monotone on it (b its only zero). When g is continuous on T with g(c), g(d) of opposite strict
+/// signs, a zero is proven in T (for [a, b), unless T ends at b and g(b) is not proven ≠ 0).
+/// Spends `*budget`; `*stuck` is the piece where it gave up or proved a zero.
+Cover exclude_segment(const G& g, double a, double b, bool open_right, long* budget, Stuck* stuck) {
+    if (open_right && a == b) return Cover::Excluded;  // [a, a) is empty
+    const int sign_b = open_right ? sign_at(g, b) : 2;
     std::vector<std::pair<double, int>> stack{{0.0, 0}};
     while (!stack.empty()) {
         const auto [k, n] = stack.back();
         stack.pop_back();
         const MpfrInterval t = g.piece(a, b, k, n);
-        if (--*budget < 0) {
-            *stuck = {t.lower(), t.upper()};
-            return false;
+        *stuck = {t.lower(), t.upper()};
+        if ((*budget -= 4) < 0) return Cover::GaveUp;
+        const MpfrInterval v = g.over(t);
+        if (excludes_zero(v)) continue;
+        const bool rightmost = open_right && k + 1 == std::ldexp(1.0, n);
+        const int sl = strict_sign(g.over(g.node(a, b, k, n)));
+        const int sr = strict_sign(g.over(g.node(a, b, k + 1, n)));
+        if (sl * sr < 0 && v.defined && (!rightmost || sign_b == 1 || sign_b == -1)) {
+            return Cover::Zero;
         }
-        if (excludes_zero(g.over(t))) continue;
-        if (zero_at_b && k + 1 == std::ldexp(1.0, n) && g.monotone_over(t)) continue;
-        if (n >= kMaxDepth) {
-            *stuck = {t.lower(), t.upper()};
-            return false;
-        }
+        if (((sl != 0 && sl == sr) || (rightmost && sign_b == 0)) && g.monotone_over(t)) continue;
+        if (n >= kMaxDepth) return Cover::GaveUp;
         stack.push_back({2 * k + 1, n + 1});
         stack.push_back({2 * k, n + 1});
     }
-    return true;
+    return Cover::Excluded;
 }
 
-/// No zero of g on [a, b], b possibly +inf: [a, a + 1], then pieces doubling in length up to
-/// 2⁶⁴ past a, then one unbounded tail.
-bool exclude_range(const G& g, double a, double b, long* budget, Stuck* stuck) {
+/// exclude_segment on [a, b] closed, b possibly +inf: [a, a + 1], then pieces doubling in length
+/// up to 2⁶⁴ past a, then one unbounded tail (its enclosure must exclude 0).
+Cover exclude_range(const G& g, double a, double b, long* budget, Stuck* stuck) {
     *stuck = {a, b};
     if (b < kInf) return exclude_segment(g, a, b, false, budget, stuck);
     double lo = a;
     for (int j = 0; j <= 64; ++j) {
         const double hi = a + std::ldexp(1.0, j);
         if (hi > lo) {
-            *stuck = {lo, hi};
-            if (!exclude_segment(g, lo, hi, false, budget, stuck)) return false;
+            const Cover c = exclude_segment(g, lo, hi, false, budget, stuck);
+            if (c != Cover::Excluded) return c;
             lo = hi;
         }
     }
     *stuck = {lo, std::numeric_limits<double>::max()};
-    if (--*budget < 0) return false;
-    return excludes_zero(g.over(g.span(lo, kInf)));
+    if (--*budget < 0) return Cover::GaveUp;
+    return excludes_zero(g.over(g.span(lo, kInf))) ? Cover::Excluded : Cover::GaveUp;
 }
 
 // ---- the exact route ---------------------------------------------------------------------------
@@ -293,40 +315,54 @@ Verdict mpfr_route(const expr::Tape& tape, const Ray& ray, const RayResult& clai
         return prove_zero(g, lo, hi, opt.refute_samples / 4, opt.continuity_budget, &where) ||
                prove_zero(g, ray.tmin, hi, opt.refute_samples, opt.continuity_budget, &where);
     };
+    auto at = [&] { return "[" + fmt(stuck.lo) + ", " + fmt(stuck.hi) + "]"; };
     if (claim.status == Status::Miss) {
-        if (exclude_range(g, ray.tmin, ray.tmax, &budget, &stuck)) {
+        const Cover c = exclude_range(g, ray.tmin, ray.tmax, &budget, &stuck);
+        if (c == Cover::Excluded) {
             *why += "mpfr: [tmin, tmax] excluded; ";
             return Verdict::Confirmed;
+        }
+        if (c == Cover::Zero) {
+            *why += "mpfr: a sign change with continuity on " + at() + "; ";
+            return Verdict::Refuted;
         }
         if (zero_before(std::min(ray.tmax, std::numeric_limits<double>::max()), true)) {
             *why += "mpfr: " + where + "; ";
             return Verdict::Refuted;
         }
-        *why += "mpfr: exclusion of [tmin, tmax] gave up at [" + fmt(stuck.lo) + ", " +
-                fmt(stuck.hi) + "]; ";
+        *why += "mpfr: exclusion of [tmin, tmax] gave up at " + at() + "; ";
         return Verdict::Unverified;
     }
     const double a = claim.t_lo, b = claim.t_hi;
     stuck = {ray.tmin, a};
-    const bool excluded = exclude_segment(g, ray.tmin, a, true, &budget, &stuck);
-    if (!excluded && zero_before(a, false)) {
+    const Cover before = exclude_segment(g, ray.tmin, a, true, &budget, &stuck);
+    if (before == Cover::Zero) {
+        *why += "mpfr: zero before t_lo: a sign change with continuity on " + at() + "; ";
+        return Verdict::Refuted;
+    }
+    if (before == Cover::GaveUp && zero_before(a, false)) {
         *why += "mpfr: zero before t_lo: " + where + "; ";
         return Verdict::Refuted;
     }
+    const bool excluded = before == Cover::Excluded;
+    const std::string gave_up = at();
     if (claim.status == Status::Unknown) return Verdict::Confirmed;  // not refuted
-    const bool exists = prove_zero(g, a, b, opt.existence_samples, opt.continuity_budget, &where);
+    bool exists = prove_zero(g, a, b, opt.existence_samples, opt.continuity_budget, &where);
     if (!exists) {
         long rest = std::max(budget, opt.continuity_budget);
-        if (exclude_segment(g, a, b, false, &rest, &stuck)) {
+        const Cover c = exclude_segment(g, a, b, false, &rest, &stuck);
+        if (c == Cover::Excluded) {
             *why += "mpfr: no zero in [t_lo, t_hi]; ";
             return Verdict::Refuted;
         }
+        if (c == Cover::Zero) {
+            exists = true;
+            where = "a sign change with continuity on " + at();
+        }
     }
-    *why +=
-        "mpfr: [tmin, t_lo) " +
-        (excluded ? std::string("excluded")
-                  : "not excluded (gave up at [" + fmt(stuck.lo) + ", " + fmt(stuck.hi) + "])") +
-        ", zero in [t_lo, t_hi] " + (exists ? "proven (" + where + ")" : "not proven") + "; ";
+    *why += "mpfr: [tmin, t_lo) " +
+            (excluded ? std::string("excluded") : "not excluded (gave up at " + gave_up + ")") +
+            ", zero in [t_lo, t_hi] " + (exists ? "proven (" + where + ")" : "not proven") + "; ";
     return excluded && exists ? Verdict::Confirmed : Verdict::Unverified;
 }
 
@@ -385,6 +421,17 @@ void OracleTally::add(const RayResult& claim, const Judgement& j) {
     if (j.exact != Verdict::NotApplicable && j.mpfr == Verdict::Unverified) {
         ++mpfr_unverified_polynomial;
     }
+}
+
+Judgement OracleTally::judge(const expr::Tape& tape, const Ray& ray, const RayResult& claim,
+                             const OracleOptions& options) {
+    Judgement j = judge_claim(tape, ray, claim, options);
+    add(claim, j);
+    if (j.verdict == Verdict::Unverified && claim.status != Status::Unknown &&
+        std::getenv("CERTRAY_ORACLE_VERBOSE") != nullptr) {
+        std::printf("unverified: %s: %s\n", describe(ray, claim).c_str(), j.why.c_str());
+    }
+    return j;
 }
 
 std::string OracleTally::summary(std::string_view what) const {

@@ -79,6 +79,14 @@ struct OracleTally {
     std::uint64_t mpfr_unverified_polynomial = 0;
 
     void add(const RayResult& claim, const Judgement& j);
+    /// judge_claim, counted; with CERTRAY_ORACLE_VERBOSE set in the environment, prints every
+    /// unverified claim with the reason (what the budget could not decide).
+    Judgement judge(const expr::Tape& tape, const Ray& ray, const RayResult& claim,
+                    const OracleOptions& options = {});
+    /// At most `fraction` of the Hit and Miss claims unverified.
+    bool unverified_at_most(double fraction) const noexcept {
+        return static_cast<double>(unverified) <= fraction * static_cast<double>(claims());
+    }
     /// Hit and Miss claims (the ones a verdict is about).
     std::uint64_t claims() const noexcept { return hits + misses; }
     /// One line: "NAME: H hits, M misses, U unknowns; confirmed C (exact E, mpfr P), unverified V,
