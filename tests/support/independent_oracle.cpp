@@ -315,7 +315,12 @@ Verdict mpfr_route(const expr::Tape& tape, const Ray& ray, const RayResult& clai
         return prove_zero(g, lo, hi, opt.refute_samples / 4, opt.continuity_budget, &where) ||
                prove_zero(g, ray.tmin, hi, opt.refute_samples, opt.continuity_budget, &where);
     };
-    auto at = [&] { return "[" + fmt(stuck.lo) + ", " + fmt(stuck.hi) + "]"; };
+    // Built by appends: GCC 12 warns (-Wrestrict, a false positive) on "literal" + std::string&&.
+    auto at = [&] {
+        std::string s = "[";
+        s.append(fmt(stuck.lo)).append(", ").append(fmt(stuck.hi)).append("]");
+        return s;
+    };
     if (claim.status == Status::Miss) {
         const Cover c = exclude_range(g, ray.tmin, ray.tmax, &budget, &stuck);
         if (c == Cover::Excluded) {

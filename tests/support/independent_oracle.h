@@ -35,7 +35,8 @@ std::string_view name(Verdict v) noexcept;
 struct OracleOptions {
     /// MPFR precision in bits of every enclosure.
     long precision = 256;
-    /// MPFR enclosures spent on excluding zeros from [tmin, t_lo) or [tmin, tmax].
+    /// MPFR enclosures spent on excluding zeros from [tmin, t_lo) or [tmin, tmax] (4 per piece:
+    /// the piece, its two ends, its derivative).
     long exclusion_budget = 3000;
     /// MPFR enclosures spent on proving continuity between two points of opposite sign.
     long continuity_budget = 200;
