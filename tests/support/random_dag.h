@@ -7,12 +7,16 @@
 #include <rapidcheck.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
+#include "expr/eval.h"
 #include "expr/graph.h"
 #include "expr/op.h"
 #include "expr/printer.h"
+#include "expr/tape.h"
+#include "solvers/ray.h"
 
 namespace certray::expr {
 
@@ -73,6 +77,17 @@ inline rc::Gen<expr::Graph> gen_dag(int max_ops = 24) {
         g.set_output(nodes.back());
         return g;
     });
+}
+
+/// Half the time (drawn), g's output f becomes f − f(o + s·d) for a drawn s in [tmin, tmax]
+/// (finite, and when f is finite there): the level set through a point of the ray, so that random
+/// rays hit about as often as they miss.
+inline void maybe_through_the_ray(expr::Graph& g, const Ray& ray) {
+    if (!*rc::gen::arbitrary<bool>() || !std::isfinite(ray.tmax)) return;
+    const double s = ray.tmin + (ray.tmax - ray.tmin) * *rc::gen::inRange(0, 65) / 64.0;
+    const double c = expr::eval<double>(
+        expr::Tape(g), {ray.o[0] + s * ray.d[0], ray.o[1] + s * ray.d[1], ray.o[2] + s * ray.d[2]});
+    if (std::isfinite(c)) g.set_output(g.binary(expr::Op::Sub, g.output(), g.constant(c)));
 }
 
 }  // namespace certray::testing

@@ -26,6 +26,7 @@
 #include "solvers/ray_io.h"
 #include "tests/support/face_cases.h"
 #include "tests/support/generators.h"
+#include "tests/support/independent_oracle.h"
 #include "tests/support/random_dag.h"
 #include "tests/support/stress_cases.h"
 #include "tracers/octree.h"
@@ -255,55 +256,82 @@ TEST(ApproxStress, NeverWrong) {
 
 // ---- random DAGs ------------------------------------------------------------------------------
 
-RC_GTEST_PROP(ApproxProperty, CertifiedAgreesWithTheCertifiedSolver, ()) {
-    const Tape t(*testing::gen_dag(12));
-    const Approx approx(t, kCube, {{3, 4096}});
-    solvers::CertifiedOptions o;
-    o.budget = 4000;
-    int agree = 0;
-    for (int k = 0; k < 4; ++k) {
-        const Ray ray = *testing::gen_ray(100, 50);
-        const RayResult a = approx.certified(ray, o);
-        const RayResult b = solvers::certified_first_root(t, ray, o);
-        agree += a.status == b.status;
-        if (a.status == Status::Hit && b.status == Status::Hit)
-            RC_ASSERT(std::max(a.t_lo, b.t_lo) <= std::min(a.t_hi, b.t_hi));
-        RC_ASSERT(!(a.status == Status::Hit && b.status == Status::Miss));
-        RC_ASSERT(!(a.status == Status::Miss && b.status == Status::Hit));
-    }
-    RC_TAG(agree, "of 4 statuses equal");
+// Every Hit and Miss of Approx::certified (certified-taylor) on random DAGs is judged by the
+// independent oracle (tests/support/independent_oracle.h); the answers must also agree with the
+// certified solver (overlapping hits, never a hit against a miss).
+TEST(ApproxProperty, CertifiedSurvivesTheIndependentOracle) {
+    testing::OracleTally tally;
+    const bool ok = rc::check("every certified-taylor hit and miss survives the oracle", [&] {
+        expr::Graph g = *testing::gen_dag(12);
+        const Ray first = *testing::gen_ray(100, 50);
+        testing::maybe_through_the_ray(g, first);
+        const Tape t(g);
+        const Approx approx(t, kCube, {{3, 4096}});
+        solvers::CertifiedOptions o;
+        o.budget = 4000;
+        int agree = 0;
+        for (int k = 0; k < 4; ++k) {
+            const Ray ray = k == 0 ? first : *testing::gen_ray(100, 50);
+            const RayResult a = approx.certified(ray, o);
+            const testing::Judgement j = tally.judge(t, ray, a);
+            RC_LOG() << testing::describe(ray, a) << ": " << j.why << "\n";
+            RC_ASSERT(j.verdict != testing::Verdict::Refuted);
+            const RayResult b = solvers::certified_first_root(t, ray, o);
+            agree += a.status == b.status;
+            if (a.status == Status::Hit && b.status == Status::Hit)
+                RC_ASSERT(std::max(a.t_lo, b.t_lo) <= std::min(a.t_hi, b.t_hi));
+            RC_ASSERT(!(a.status == Status::Hit && b.status == Status::Miss));
+            RC_ASSERT(!(a.status == Status::Miss && b.status == Status::Hit));
+        }
+        RC_TAG(agree, "of 4 statuses equal");
+    });
+    EXPECT_TRUE(ok);
+    std::printf("%s\n", tally.summary("certified-taylor (random DAGs)").c_str());
+    EXPECT_EQ(tally.refuted, 0u);
+    EXPECT_TRUE(tally.unverified_at_most(0.02)) << tally.summary("certified-taylor");
 }
 
 /// Random smooth blobs (a sphere with a sinusoidal bump), rays aimed near the centre: most rays
-/// hit, so the model's proofs and candidates are exercised.
-RC_GTEST_PROP(ApproxProperty, SmoothScenesAgreeWithTheCertifiedSolver, ()) {
-    auto frac = [](int lo, int hi, double s) { return *rc::gen::inRange(lo, hi) / s; };
-    const double cx = frac(-50, 50, 100), cy = frac(-50, 50, 100), cz = frac(-50, 50, 100);
-    const double r = frac(20, 120, 100), e = frac(0, 30, 100), k = frac(1, 60, 10);
-    const std::string text = "(x - " + std::to_string(cx) + ")^2 + (y - " + std::to_string(cy) +
-                             ")^2 + (z - " + std::to_string(cz) + ")^2 - " + std::to_string(r * r) +
-                             " + " + std::to_string(e) + " * sin(" + std::to_string(k) +
-                             " * x) * cos(" + std::to_string(k) + " * y)";
-    const Tape t(expr::parse_expr(text));
-    const Approx approx(t, kCube, {{4, 1u << 16}});
-    int hits = 0;
-    for (int n = 0; n < 4; ++n) {
-        Ray ray;
-        ray.o = {frac(-400, 400, 100), frac(-400, 400, 100), -5.0};
-        ray.d = {cx + r * frac(-70, 70, 100) - ray.o[0], cy + r * frac(-70, 70, 100) - ray.o[1],
-                 cz - ray.o[2]};
-        ray.tmin = 0;
-        ray.tmax = 2;
-        const RayResult a = approx.certified(ray, {});
-        const RayResult b = solvers::certified_first_root(t, ray, {});
-        hits += a.status == Status::Hit;
-        if (a.status == Status::Hit && b.status == Status::Hit)
-            RC_ASSERT(std::max(a.t_lo, b.t_lo) <= std::min(a.t_hi, b.t_hi));
-        RC_ASSERT(!(a.status == Status::Hit && b.status == Status::Miss));
-        RC_ASSERT(!(a.status == Status::Miss && b.status == Status::Hit));
-    }
-    const ApproxStats st = approx.stats();
-    RC_TAG(hits, "hits of 4", st.proven > 0 ? "model proved a root" : "no model proof");
+/// hit, so the model's proofs and candidates are exercised; each Hit and Miss judged by the
+/// independent oracle and compared with the certified solver.
+TEST(ApproxProperty, SmoothScenesSurviveTheIndependentOracle) {
+    testing::OracleTally tally;
+    const bool ok = rc::check("certified-taylor on smooth blobs survives the oracle", [&] {
+        auto frac = [](int lo, int hi, double s) { return *rc::gen::inRange(lo, hi) / s; };
+        const double cx = frac(-50, 50, 100), cy = frac(-50, 50, 100), cz = frac(-50, 50, 100);
+        const double r = frac(20, 120, 100), e = frac(0, 30, 100), k = frac(1, 60, 10);
+        const std::string text = "(x - " + std::to_string(cx) + ")^2 + (y - " + std::to_string(cy) +
+                                 ")^2 + (z - " + std::to_string(cz) + ")^2 - " +
+                                 std::to_string(r * r) + " + " + std::to_string(e) + " * sin(" +
+                                 std::to_string(k) + " * x) * cos(" + std::to_string(k) + " * y)";
+        const Tape t(expr::parse_expr(text));
+        const Approx approx(t, kCube, {{4, 1u << 16}});
+        int hits = 0;
+        for (int n = 0; n < 4; ++n) {
+            Ray ray;
+            ray.o = {frac(-400, 400, 100), frac(-400, 400, 100), -5.0};
+            ray.d = {cx + r * frac(-70, 70, 100) - ray.o[0], cy + r * frac(-70, 70, 100) - ray.o[1],
+                     cz - ray.o[2]};
+            ray.tmin = 0;
+            ray.tmax = 2;
+            const RayResult a = approx.certified(ray, {});
+            const testing::Judgement j = tally.judge(t, ray, a);
+            RC_LOG() << testing::describe(ray, a) << ": " << j.why << "\n";
+            RC_ASSERT(j.verdict != testing::Verdict::Refuted);
+            const RayResult b = solvers::certified_first_root(t, ray, {});
+            hits += a.status == Status::Hit;
+            if (a.status == Status::Hit && b.status == Status::Hit)
+                RC_ASSERT(std::max(a.t_lo, b.t_lo) <= std::min(a.t_hi, b.t_hi));
+            RC_ASSERT(!(a.status == Status::Hit && b.status == Status::Miss));
+            RC_ASSERT(!(a.status == Status::Miss && b.status == Status::Hit));
+        }
+        const ApproxStats st = approx.stats();
+        RC_TAG(hits, "hits of 4", st.proven > 0 ? "model proved a root" : "no model proof");
+    });
+    EXPECT_TRUE(ok);
+    std::printf("%s\n", tally.summary("certified-taylor (smooth blobs)").c_str());
+    EXPECT_EQ(tally.refuted, 0u);
+    EXPECT_TRUE(tally.unverified_at_most(0.02)) << tally.summary("certified-taylor");
 }
 
 }  // namespace
