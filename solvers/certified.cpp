@@ -120,6 +120,13 @@ class Solver {
 
   private:
     bool out_of_budget() const { return result_.evals.total() >= options_.budget; }
+    /// A hit enclosure needs no more narrowing: a few ulps, or options.hit_width relative to |t|.
+    bool narrow_enough(const Interval& t) const {
+        if (narrow(t.lower(), t.upper())) return true;
+        const double scale = std::max(std::fabs(t.lower()), std::fabs(t.upper()));
+        return options_.hit_width > 0 && std::isfinite(scale) &&
+               t.upper() - t.lower() <= options_.hit_width * scale;
+    }
 
     /// G(T): g over the parameter interval T.
     Interval g(const Interval& t) {
@@ -245,7 +252,7 @@ RayResult Solver<E>::hit(Interval t) {
         return sa;
     };
     // Newton's contraction keeps every zero of T (whether or not uniqueness was proven).
-    for (int it = 0; it < 64 && !narrow(t.lower(), t.upper()) && !out_of_budget(); ++it) {
+    for (int it = 0; it < 64 && !narrow_enough(t) && !out_of_budget(); ++it) {
         bool unique = false;
         const D1 gt = g_dual(t);
         const Interval next = newton(t, gt, unique);
@@ -256,7 +263,7 @@ RayResult Solver<E>::hit(Interval t) {
     if (t.lower() != lp && moved_to(t.lower()) == 0) {
         return finish(Status::Hit, t.lower(), t.lower());
     }
-    while (!narrow(t.lower(), t.upper()) && !out_of_budget() && std::isfinite(t.upper())) {
+    while (!narrow_enough(t) && !out_of_budget() && std::isfinite(t.upper())) {
         // Split at the midpoint; where g's sign there is undecided (the split hit the root
         // itself, say), at the quarter points instead.
         const double m = midpoint(t);
@@ -395,7 +402,11 @@ RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
     NearestScope env;  // sound in any caller's floating-point environment (interval/interval.h)
     thread_local Scratch<Interval> scratch;
     RayResult r = Solver<Interval>(tape, ray, options, scratch).solve();
-    if (r.status == Status::Miss || (r.status == Status::Hit && narrow(r.t_lo, r.t_hi))) return r;
+    if (r.status == Status::Miss ||
+        (r.status == Status::Hit &&
+         (!options.exact_narrowing || options.hit_width > 0 || narrow(r.t_lo, r.t_hi)))) {
+        return r;
+    }
     // Undecided or wide: on a polynomial scene the exact oracle decides, within what is left of
     // the budget (its evaluations added). It is never less certain than this answer.
     const std::uint64_t spent = r.evals.total();

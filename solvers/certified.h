@@ -22,14 +22,25 @@ struct CertifiedOptions {
     /// Also enclose g over each parameter interval T by the affine form of g in T's one noise
     /// symbol, and use the intersection with the interval enclosure (two evaluations, counted).
     bool affine = false;
+    /// When the tape is a polynomial, let the exact oracle narrow a Hit that the interval search
+    /// left wider than 4 ulps. Off, such a Hit is returned as the interval search proved it (still
+    /// a zero in [t_lo, t_hi] and none before t_lo); the oracle still decides Unknowns. Images need
+    /// no 4-ulp depths, and the rational arithmetic costs most of a hit ray's time on the algebraic
+    /// scenes (docs/benchmarks.md, "Coherent certified rendering").
+    bool exact_narrowing = true;
+    /// A Hit enclosure is narrowed until it is a few ulps wide or, when this is > 0, until
+    /// t_hi − t_lo ≤ hit_width · max(|t_lo|, |t_hi|) (an image needs no 4-ulp depths). The answer
+    /// keeps its meaning; only the enclosure may be wider. A Hit left wider than 4 ulps this way is
+    /// not narrowed by the exact oracle either.
+    double hit_width = 0;
 };
 
 /// The first root of g(t) = f(o + t·d) on [ray.tmin, ray.tmax], certified (see the contract).
-/// When the interval search ends Unknown, or with a Hit wider than 4 ulps, and the tape is a
-/// polynomial (solvers/exact.h, is_polynomial), the exact rational oracle re-decides within what
-/// is left of the budget and its answer is returned, with its evaluations added (a tangent root
-/// becomes a Hit of adjacent doubles). Thread-safe: each thread uses its own scratch space,
-/// allocated once.
+/// When the interval search ends Unknown, or with a Hit wider than 4 ulps (and
+/// options.exact_narrowing), and the tape is a polynomial (solvers/exact.h, is_polynomial), the
+/// exact rational oracle re-decides within what is left of the budget and its answer is returned,
+/// with its evaluations added (a tangent root becomes a Hit of adjacent doubles). Thread-safe: each
+/// thread uses its own scratch space, allocated once.
 RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
                                const CertifiedOptions& options = {});
 

@@ -21,6 +21,7 @@
 #include "expr/derived.h"
 #include "expr/eval.h"
 #include "expr/prune.h"
+#include "interval/dual.h"
 #include "interval/interval.h"
 
 namespace certray::tracers {
@@ -103,6 +104,10 @@ class Walker {
     void node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
               unsigned depth);
     void leaf(const Rect& r, double a, double b, const expr::Tape& tape);
+    /// The mean value form over the box: F(c) + Σ G_i·(X_i − c_i), with G the gradient
+    /// enclosure over the box X and c its centre; true when it excludes 0.
+    bool excluded_by_mean_value(const Ssa& list, double a, double b, const double* olo,
+                                const double* ohi, const double* dlo, const double* dhi);
     /// Writes the answer `res` of pixel (i, j) on its ray.
     void answer(unsigned i, unsigned j, const Ray& ray, const RayResult& res);
 
@@ -116,7 +121,45 @@ class Walker {
     expr::PruneWorkspace prune_ws_;
     Rect root_{0, 0, 0, 0};
     std::vector<Px> px_;
+    std::vector<Dual<UpInterval, 3>> duals_;
+    std::vector<UpInterval> centre_;
 };
+
+bool Walker::excluded_by_mean_value(const Ssa& list, double a, double b, const double* olo,
+                                    const double* ohi, const double* dlo, const double* dhi) {
+    using D = Dual<UpInterval, 3>;
+    if (duals_.size() < list.size()) duals_.resize(list.size());
+    if (centre_.size() < list.size()) centre_.resize(list.size());
+    stats.box_evals += 2;
+    stats.box_instructions += 2 * list.size();
+    ++evals.gradient;
+    ++evals.interval;
+    RoundingScope scope;
+    const UpInterval t(a, b);
+    std::array<D, 3> p;
+    std::array<UpInterval, 3> c;
+    for (int k = 0; k < 3; ++k) {
+        const UpInterval x = UpInterval(olo[k], ohi[k]) + t * UpInterval(dlo[k], dhi[k]);
+        p[k] = D(x);
+        p[k].v[k] = UpInterval(1.0);
+        c[k] = UpInterval(midpoint(x));
+    }
+    expr::detail::run<D>(list, p, duals_.data());
+    const D& g = duals_[list.back().out];
+    // Lebourg's mean value theorem (Clarke gradients cover the kinks of abs, min, max) needs f
+    // defined and continuous on the whole box and a bounded gradient enclosure.
+    if (g.a.is_empty() || !g.a.defined) return false;
+    for (int k = 0; k < 3; ++k) {
+        if (g.v[k].is_empty() || !std::isfinite(g.v[k].lower()) || !std::isfinite(g.v[k].upper())) {
+            return false;
+        }
+    }
+    expr::detail::run<UpInterval>(list, c, centre_.data());
+    UpInterval m = centre_[list.back().out];
+    if (m.is_empty() || !m.defined) return false;
+    for (int k = 0; k < 3; ++k) m = m + g.v[k] * (p[k].a - c[k]);
+    return !possibly_zero(m);
+}
 
 void Walker::tile(const Rect& r) {
     root_ = r;
@@ -180,6 +223,10 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     stats.box_instructions += list.size();
     ++evals.interval;
     if (!possibly_zero(f)) {  // 0 ∉ F (or f undefined on the whole box): no ray meets f = 0 here
+        ++stats.boxes_excluded;
+        return;
+    }
+    if (options_.mean_value && excluded_by_mean_value(list, a, b, olo, ohi, dlo, dhi)) {
         ++stats.boxes_excluded;
         return;
     }

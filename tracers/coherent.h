@@ -51,7 +51,11 @@ struct CoherentOptions {
     unsigned root_tile = 16;
     /// A box is split in t while its depth (t extent) exceeds `aspect` times its lateral extent
     /// (the spread of its rays at the far end, plus one pixel), otherwise across the screen.
-    double aspect = 1.0;
+    double aspect = 0.5;
+    /// Where the interval enclosure of f over a box holds 0, try the mean value form (f at the
+    /// box's centre plus the gradient enclosure times the box's radius; one gradient and one
+    /// point evaluation), which is second-order tight on small boxes.
+    bool mean_value = true;
 };
 
 /// What the coherent walk did, summed over the image.

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "expr/load.h"
+#include "expr/parser.h"
 #include "expr/tape.h"
 #include "solvers/certified.h"
 #include "tests/support/random_dag.h"
@@ -146,6 +147,130 @@ TEST(Coherent, GalleryAgreesWithThePerRaySolverPixelByPixel) {
         }
     }
     EXPECT_GE(scenes, 10u);
+}
+
+TEST(Coherent, ImageOptionsForRenderingKeepTheAnswers) {
+    // exact_narrowing off and a hit width: the same statuses, Hits still consistent.
+    const expr::Tape tape(expr::load_graph_file((kScenes / "barth_sextic.vm").string()));
+    for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
+        CoherentOptions o = small_view(p);
+        o.certified.exact_narrowing = false;
+        o.certified.hit_width = 1e-6;
+        const Agreement a = against_per_ray(tape, o);
+        EXPECT_EQ(a.wrong, 0u) << a.first_wrong;
+        EXPECT_EQ(a.same, a.rays);
+    }
+}
+
+TEST(Coherent, AgreesWithTheMpfrReferenceOnASubsetOfPixels) {
+    for (const char* scene : {"barth_sextic.vm", "torus.expr", "gyroid.expr", "csg.expr"}) {
+        const expr::Tape tape(expr::load_graph_file((kScenes / scene).string()));
+        for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
+            CoherentOptions o = small_view(p);
+            o.render.width = o.render.height = 24;
+            const Agreement a = against_per_ray(tape, o, /*reference=*/true, /*stride=*/7);
+            EXPECT_EQ(a.wrong, 0u) << scene << ": " << a.first_wrong;
+            EXPECT_GE(a.same + a.undecided, a.rays) << scene;
+            EXPECT_GT(a.rays, 20u) << scene;
+        }
+    }
+}
+
+TEST(Coherent, ThreadsAndMeanValueFormDoNotChangeAnswersAndMeanValueSavesWork) {
+    const expr::Tape tape(expr::load_graph_file((kScenes / "barth_sextic.vm").string()));
+    CoherentOptions o = small_view(Projection::Pinhole);
+    o.render.threads = 1;
+    std::vector<RayResult> one, two;
+    render_3d_coherent(tape, o, nullptr, &one);
+    o.render.threads = 3;
+    render_3d_coherent(tape, o, nullptr, &two);
+    ASSERT_EQ(one.size(), two.size());
+    for (std::size_t k = 0; k < one.size(); ++k) {
+        EXPECT_EQ(one[k].status, two[k].status);
+        if (one[k].status != Status::Miss) {
+            EXPECT_EQ(one[k].t_lo, two[k].t_lo);
+        }
+        EXPECT_EQ(one[k].evals.total(), two[k].evals.total());
+    }
+    CoherentStats with, without;
+    o.mean_value = true;
+    const RenderResult a = render_3d_coherent(tape, o, &with);
+    o.mean_value = false;
+    const RenderResult b = render_3d_coherent(tape, o, &without);
+    EXPECT_EQ(a.answers.status, b.answers.status);
+    EXPECT_LT(with.leaf_solves, without.leaf_solves);
+}
+
+TEST(Coherent, OrthoRaysAreTheHeightmapRays) {
+    CoherentOptions o;
+    o.projection = Projection::Ortho;
+    o.render.width = 4;
+    o.render.height = 2;
+    o.render.bounds = {{{-1, 1}, {-1, 1}, {-0.5, 1.5}}};
+    const PixelRays rays(o);
+    Ray r;
+    ASSERT_TRUE(rays.ray(0, 0, r));
+    EXPECT_EQ(r.o[0], -0.75);
+    EXPECT_EQ(r.o[1], 0.5);
+    EXPECT_EQ(r.o[2], 1.5);
+    EXPECT_EQ(r.d[2], -1.0);
+    EXPECT_EQ(r.tmin, 0.0);
+    EXPECT_GE(r.tmax, 2.0);
+    ASSERT_TRUE(rays.ray(3, 1, r));
+    EXPECT_EQ(r.o[0], 0.75);
+    EXPECT_EQ(r.o[1], -0.5);
+    o.render.bounds[2] = {1, 1};
+    EXPECT_THROW(PixelRays{o}, std::invalid_argument);
+    o.render.width = 0;
+    EXPECT_THROW(render_3d_coherent(expr::Tape(expr::parse_expr("x + y + z")), o),
+                 std::invalid_argument);
+}
+
+TEST(Coherent, PinholeRaysAreRender3dRays) {
+    const CoherentOptions o = small_view(Projection::Pinhole);
+    const PixelRays rays(o);
+    const CameraFrame frame(o.render.camera, o.render.width, o.render.height);
+    for (unsigned j = 0; j < o.render.height; j += 5) {
+        for (unsigned i = 0; i < o.render.width; i += 3) {
+            Ray a, b = frame.ray(i + 0.5, j + 0.5);
+            const bool in = clip_ray(b, o.render.bounds);
+            ASSERT_EQ(rays.ray(i, j, a), in);
+            if (!in) continue;
+            EXPECT_EQ(a.o, b.o);
+            EXPECT_EQ(a.d, b.d);
+            EXPECT_EQ(a.tmin, b.tmin);
+            EXPECT_EQ(a.tmax, b.tmax);
+        }
+    }
+}
+
+// Random DAGs under random cameras (pinhole and ortho), random tile sides, split shapes and
+// thread counts: never a contradiction with the per-ray solver; Unknown on one side only where
+// the other decides is allowed, and must stay rare.
+RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
+    const expr::Tape tape(*testing::gen_dag(16));
+    CoherentOptions o;
+    o.render.width = *rc::gen::inRange(1u, 14u);
+    o.render.height = *rc::gen::inRange(1u, 14u);
+    const double lo = *rc::gen::element(-2.0, -1.0, -0.3);
+    const double hi = *rc::gen::element(2.0, 1.0, 0.7);
+    o.render.bounds = {{{lo, hi}, {lo, hi}, {lo, hi}}};
+    o.projection = *rc::gen::element(Projection::Pinhole, Projection::Ortho);
+    const double az = *rc::gen::inRange(0, 628) / 100.0;
+    const double el = *rc::gen::inRange(-120, 120) / 100.0;
+    const double dist = *rc::gen::element(2.0, 4.0, 8.0);
+    o.render.camera.eye = {dist * std::cos(el) * std::cos(az), dist * std::cos(el) * std::sin(az),
+                           dist * std::sin(el)};
+    o.render.camera.target = {0, 0, 0};
+    o.render.camera.fov_degrees = *rc::gen::element(20.0, 35.0, 60.0);
+    o.root_tile = *rc::gen::element(1u, 4u, 16u);
+    o.aspect = *rc::gen::element(0.25, 0.5, 2.0);
+    o.mean_value = *rc::gen::arbitrary<bool>();
+    o.render.threads = *rc::gen::element(1u, 2u);
+    o.certified.budget = 2000;
+    const Agreement a = against_per_ray(tape, o);
+    RC_ASSERT(a.wrong == 0u);
+    RC_TAG(a.undecided == 0 ? "all agree" : "some undecided");
 }
 
 }  // namespace
