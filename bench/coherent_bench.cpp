@@ -5,10 +5,12 @@
 // where the surface may be, seen from (1, −2, 0.8), fov 35°), and the Fidget models of
 // /work/shared/models (CERTRAY_MODELS_DIR) over [−1, 1]³. Pinhole and ortho (heightmap along −z)
 // cameras; sizes 256², 512², 1024². Wall-clock time (UseRealTime): the renders are threaded.
-// Counters per pixel: whole-tape evaluations (evals/px: box evaluations + every leaf solve's),
-// box evaluations (boxes/px), leaf solves (leaves/px), and the image's hit/miss/unknown counts.
-// Command: build/bench/coherent_bench [--benchmark_filter=…]; results in docs/benchmarks.md,
-// "Coherent certified rendering".
+// `image` 1: the solver options an image needs (CertifiedOptions::exact_narrowing off, hit_width
+// 1e-6), for both engines; 0: the defaults (hits narrowed to 4 ulps, by the exact oracle where the
+// intervals cannot). Counters per pixel: whole-tape evaluations (evals/px: box evaluations and
+// every solve's), box evaluations (boxes/px), leaf solves (leaves/px), and the image's
+// hit/miss/unknown counts. Command: build/bench/coherent_bench [--benchmark_filter=…]; results in
+// docs/benchmarks.md, "Coherent certified rendering".
 #include <benchmark/benchmark.h>
 
 #include <string>
@@ -17,6 +19,7 @@
 
 #include "expr/load.h"
 #include "expr/tape.h"
+#include "solvers/certified.h"
 #include "tracers/camera.h"
 #include "tracers/coherent.h"
 #include "tracers/methods.h"
@@ -43,9 +46,12 @@ const expr::Tape& tape_of(int scene) {
     return tapes[scene];
 }
 
-/// The options of a square image of `scene`: bounds, and the CLI's auto-framed pinhole camera.
-tracers::CoherentOptions options(int scene, unsigned side, bool ortho, unsigned threads) {
+/// The options of a square image of `scene`: bounds, and the CLI's auto-framed pinhole camera;
+/// `image`: the solver options for images (no exact narrowing of hits, hit width 1e-6 relative).
+tracers::CoherentOptions options(int scene, unsigned side, bool ortho, unsigned threads,
+                                 bool image) {
     tracers::CoherentOptions o;
+    o.certified = image ? tracers::image_solver_options() : solvers::CertifiedOptions{};
     const Scene& s = kScenes[scene];
     o.render.width = o.render.height = side;
     for (auto& a : o.render.bounds) a = {s.lo, s.hi};
@@ -71,7 +77,8 @@ void BM_Coherent(benchmark::State& state) {
     const int scene = static_cast<int>(state.range(0));
     const unsigned side = static_cast<unsigned>(state.range(1));
     const tracers::CoherentOptions o =
-        options(scene, side, state.range(2) != 0, static_cast<unsigned>(state.range(3)));
+        options(scene, side, state.range(2) != 0, static_cast<unsigned>(state.range(3)),
+                state.range(4) != 0);
     tracers::RenderResult r;
     tracers::CoherentStats s;
     for (auto _ : state) {
@@ -92,10 +99,13 @@ void BM_PerRay(benchmark::State& state) {
     const unsigned side = static_cast<unsigned>(state.range(1));
     const bool ortho = state.range(2) != 0;
     const tracers::CoherentOptions o =
-        options(scene, side, ortho, static_cast<unsigned>(state.range(3)));
+        options(scene, side, ortho, static_cast<unsigned>(state.range(3)), state.range(4) != 0);
     const tracers::PixelRays rays(o);
     const expr::Tape& tape = tape_of(scene);
-    const tracers::RayFunction certified = tracers::make_method("certified", tape, {});
+    const solvers::CertifiedOptions co = o.certified;
+    const tracers::RayFunction certified = [&tape, co](const Ray& ray) {
+        return solvers::certified_first_root(tape, ray, co);
+    };
     tracers::RenderResult r;
     for (auto _ : state) {
         if (!ortho) {
@@ -135,34 +145,38 @@ void BM_PerRay(benchmark::State& state) {
     report(state, r, static_cast<double>(side) * side);
 }
 
-// Barth: coherent against per-ray at 512², pinhole and ortho, 2 threads; coherent at 256², 1024².
+// Arguments: scene (0 Barth, 1 hi, 2 quarter, 3 tanglecube), side, ortho, threads, image options.
 BENCHMARK(BM_Coherent)
-    ->ArgNames({"scene", "side", "ortho", "threads"})
-    ->Args({0, 512, 0, 2})
-    ->Args({0, 512, 1, 2})
-    ->Args({0, 512, 0, 1})
-    ->Args({0, 256, 0, 2})
-    ->Args({0, 1024, 0, 2})
-    ->Args({0, 256, 1, 2})
-    ->Args({0, 1024, 1, 2})
-    ->Args({1, 256, 1, 2})
-    ->Args({1, 512, 1, 2})
-    ->Args({2, 256, 1, 2})
-    ->Args({2, 512, 1, 2})
-    ->Args({1, 256, 0, 2})
-    ->Args({2, 256, 0, 2})
-    ->Args({3, 512, 0, 2})
+    ->ArgNames({"scene", "side", "ortho", "threads", "image"})
+    ->Args({0, 512, 0, 2, 0})
+    ->Args({0, 512, 0, 2, 1})
+    ->Args({0, 512, 1, 2, 0})
+    ->Args({0, 512, 1, 2, 1})
+    ->Args({0, 512, 0, 1, 1})
+    ->Args({0, 256, 0, 2, 1})
+    ->Args({0, 1024, 0, 2, 1})
+    ->Args({0, 256, 1, 2, 1})
+    ->Args({0, 1024, 1, 2, 1})
+    ->Args({1, 256, 1, 2, 1})
+    ->Args({1, 512, 1, 2, 1})
+    ->Args({2, 256, 1, 2, 1})
+    ->Args({2, 512, 1, 2, 1})
+    ->Args({1, 256, 0, 2, 1})
+    ->Args({2, 256, 0, 2, 1})
+    ->Args({3, 512, 0, 2, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_PerRay)
-    ->ArgNames({"scene", "side", "ortho", "threads"})
-    ->Args({0, 512, 0, 2})
-    ->Args({0, 512, 1, 2})
-    ->Args({1, 256, 1, 2})
-    ->Args({2, 256, 1, 2})
-    ->Args({1, 256, 0, 2})
-    ->Args({2, 256, 0, 2})
-    ->Args({3, 512, 0, 2})
+    ->ArgNames({"scene", "side", "ortho", "threads", "image"})
+    ->Args({0, 512, 0, 2, 0})
+    ->Args({0, 512, 0, 2, 1})
+    ->Args({0, 512, 1, 2, 0})
+    ->Args({0, 512, 1, 2, 1})
+    ->Args({1, 256, 1, 2, 1})
+    ->Args({2, 256, 1, 2, 1})
+    ->Args({1, 256, 0, 2, 1})
+    ->Args({2, 256, 0, 2, 1})
+    ->Args({3, 512, 0, 2, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);

@@ -39,14 +39,25 @@ enum class Projection : std::uint8_t {
     Ortho,
 };
 
+/// The solver options for images: exact_narrowing off, hit_width 1e-6.
+inline solvers::CertifiedOptions image_solver_options() {
+    solvers::CertifiedOptions o;
+    o.exact_narrowing = false;
+    o.hit_width = 1e-6;
+    return o;
+}
+
 /// Everything a coherent image needs besides the scene.
 struct CoherentOptions {
     /// Size, pinhole camera, bounds, light, AOV, threads (0: one per hardware thread). `progress`
     /// is not read (no progress bar).
     RenderOptions render;
     Projection projection = Projection::Pinhole;
-    /// The per-ray solver's options, for every leaf ray (budget per solve).
-    solvers::CertifiedOptions certified;
+    /// The per-ray solver's options, for every leaf ray (budget per solve). By default those an
+    /// image needs: hits narrowed to 1e-6 relative width, not to 4 ulps by the exact oracle
+    /// (docs/theory/coherent.md, "Options for images"); the answers keep their meaning. Set
+    /// `certified = {}` for the per-ray defaults (slower: docs/benchmarks.md).
+    solvers::CertifiedOptions certified = image_solver_options();
     /// Pixels per side of a root tile, the unit of work of a thread (≥ 1).
     unsigned root_tile = 16;
     /// A box is split in t while its depth (t extent) exceeds `aspect` times its lateral extent

@@ -76,7 +76,8 @@ void tally(Agreement& a, unsigned i, unsigned j, const RayResult& coherent, cons
     }
 }
 
-/// The coherent render of `tape` compared with the per-ray certified solver on every pixel's ray
+/// The coherent render of `tape` compared with the per-ray certified solver (its default options)
+/// on every pixel's ray
 /// (every `stride`-th pixel for the MPFR reference, when `reference` is set).
 Agreement against_per_ray(const expr::Tape& tape, const CoherentOptions& o, bool reference = false,
                           unsigned stride = 1) {
@@ -84,6 +85,9 @@ Agreement against_per_ray(const expr::Tape& tape, const CoherentOptions& o, bool
     std::vector<RayResult> results;
     const RenderResult r = render_3d_coherent(tape, o, &stats, &results);
     const PixelRays rays(o);
+    // The per-ray `certified` method: the solver's defaults, with the same budget per solve.
+    solvers::CertifiedOptions per_ray;
+    per_ray.budget = o.certified.budget;
     Agreement a;
     std::size_t k = 0;
     for (unsigned j = 0; j < o.render.height; ++j) {
@@ -97,9 +101,9 @@ Agreement against_per_ray(const expr::Tape& tape, const CoherentOptions& o, bool
                 continue;
             }
             if (k % stride != 0) continue;
-            const RayResult ref =
-                reference ? solvers::certified_first_root_reference(tape, ray, o.certified)
-                          : solvers::certified_first_root(tape, ray, o.certified);
+            const RayResult ref = reference
+                                      ? solvers::certified_first_root_reference(tape, ray, per_ray)
+                                      : solvers::certified_first_root(tape, ray, per_ray);
             tally(a, i, j, results[k], ref);
         }
     }
@@ -149,13 +153,14 @@ TEST(Coherent, GalleryAgreesWithThePerRaySolverPixelByPixel) {
     EXPECT_GE(scenes, 10u);
 }
 
-TEST(Coherent, ImageOptionsForRenderingKeepTheAnswers) {
-    // exact_narrowing off and a hit width: the same statuses, Hits still consistent.
+TEST(Coherent, PerRaySolverDefaultsKeepTheAnswers) {
+    // The solver's defaults (4-ulp hits, the exact oracle narrowing them) instead of the image
+    // options: the same statuses, Hits still consistent.
     const expr::Tape tape(expr::load_graph_file((kScenes / "barth_sextic.vm").string()));
     for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
         CoherentOptions o = small_view(p);
-        o.certified.exact_narrowing = false;
-        o.certified.hit_width = 1e-6;
+        o.certified = {};
+        o.render.width = o.render.height = 32;
         const Agreement a = against_per_ray(tape, o);
         EXPECT_EQ(a.wrong, 0u) << a.first_wrong;
         EXPECT_EQ(a.same, a.rays);
@@ -267,7 +272,7 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     o.aspect = *rc::gen::element(0.25, 0.5, 2.0);
     o.mean_value = *rc::gen::arbitrary<bool>();
     o.render.threads = *rc::gen::element(1u, 2u);
-    o.certified.budget = 2000;
+    o.certified.budget = 2000;  // the image options otherwise
     const Agreement a = against_per_ray(tape, o);
     RC_ASSERT(a.wrong == 0u);
     RC_TAG(a.undecided == 0 ? "all agree" : "some undecided");
