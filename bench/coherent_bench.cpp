@@ -4,7 +4,8 @@
 // Scenes: scenes/barth_sextic.vm over [−2, 2]³, framed as `certray render` frames it (the cells
 // where the surface may be, seen from (1, −2, 0.8), fov 35°), and the Fidget models of
 // /work/shared/models (CERTRAY_MODELS_DIR) over [−1, 1]³. Pinhole and ortho (heightmap along −z)
-// cameras; sizes 256², 512², 1024². Wall-clock time (UseRealTime): the renders are threaded.
+// cameras; sizes 256², 512², 1024². Wall-clock time (UseRealTime): the renders are threaded; the
+// CPU column is the whole process's (MeasureProcessCPUTime), steadier on a shared machine.
 // `image` 1: the solver options an image needs (CertifiedOptions::exact_narrowing off, hit_width
 // 1e-6), for both engines; 0: the defaults (hits narrowed to 4 ulps, by the exact oracle where the
 // intervals cannot). Counters per pixel: whole-tape evaluations (evals/px: box evaluations and
@@ -165,6 +166,7 @@ BENCHMARK(BM_Coherent)
     ->Args({2, 256, 0, 2, 1})
     ->Args({3, 512, 0, 2, 1})
     ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
     ->UseRealTime();
 BENCHMARK(BM_PerRay)
     ->ArgNames({"scene", "side", "ortho", "threads", "image"})
@@ -178,6 +180,7 @@ BENCHMARK(BM_PerRay)
     ->Args({2, 256, 0, 2, 1})
     ->Args({3, 512, 0, 2, 1})
     ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
     ->UseRealTime()
     ->Iterations(1);
 

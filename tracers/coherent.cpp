@@ -91,6 +91,7 @@ class Walker {
           ans_(answers),
           results_(results),
           choices_(has_choices(tape.ssa())),
+          t_splits_(rays.projection() == Projection::Pinhole || tape.uses_var(2)),
           levels_(kMaxDepth) {}
 
     /// Answers every pixel of the root tile r.
@@ -117,6 +118,9 @@ class Walker {
     PixelAnswers& ans_;
     std::vector<RayResult>* results_;  ///< every answer, when the caller asks
     const bool choices_;               ///< the tape has min/max: pruning can shorten it
+    /// Splitting in t can tighten a box: false for heightmap rays over a tape without z, whose
+    /// boxes do not change along t.
+    const bool t_splits_;
     std::vector<Level> levels_;
     expr::PruneWorkspace prune_ws_;
     Rect root_{0, 0, 0, 0};
@@ -226,7 +230,8 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
         ++stats.boxes_excluded;
         return;
     }
-    if (options_.mean_value && excluded_by_mean_value(list, a, b, olo, ohi, dlo, dhi)) {
+    if (count <= options_.mean_value_rays &&
+        excluded_by_mean_value(list, a, b, olo, ohi, dlo, dhi)) {
         ++stats.boxes_excluded;
         return;
     }
@@ -249,7 +254,7 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
         const bool pinhole = rays_.projection() == Projection::Pinhole;
         const double lateral =
             spread_o + std::fabs(b) * spread_d + rays_.pixel_pitch() * (pinhole ? std::fabs(b) : 1);
-        if (b - a > options_.aspect * lateral && splittable(a, b)) {
+        if (t_splits_ && b - a > options_.aspect * lateral && splittable(a, b)) {
             // Near segment first: the far one only sees the rays the near one left open.
             const double m = 0.5 * a + 0.5 * b;
             node(r, a, m, *sub, sub_tape, depth + 1);

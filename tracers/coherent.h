@@ -63,10 +63,11 @@ struct CoherentOptions {
     /// A box is split in t while its depth (t extent) exceeds `aspect` times its lateral extent
     /// (the spread of its rays at the far end, plus one pixel), otherwise across the screen.
     double aspect = 0.5;
-    /// Where the interval enclosure of f over a box holds 0, try the mean value form (f at the
-    /// box's centre plus the gradient enclosure times the box's radius; one gradient and one
-    /// point evaluation), which is second-order tight on small boxes.
-    bool mean_value = true;
+    /// Where the interval enclosure of f over a box of at most this many rays holds 0, try the
+    /// mean value form (f at the box's centre plus the gradient enclosure times the box's radius;
+    /// one gradient and one point evaluation), which is second-order tight on small boxes (and
+    /// seldom pays on larger ones). 0: never.
+    unsigned mean_value_rays = 16;
 };
 
 /// What the coherent walk did, summed over the image.

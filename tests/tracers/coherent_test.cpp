@@ -198,9 +198,9 @@ TEST(Coherent, ThreadsAndMeanValueFormDoNotChangeAnswersAndMeanValueSavesWork) {
         EXPECT_EQ(one[k].evals.total(), two[k].evals.total());
     }
     CoherentStats with, without;
-    o.mean_value = true;
+    o.mean_value_rays = 16;
     const RenderResult a = render_3d_coherent(tape, o, &with);
-    o.mean_value = false;
+    o.mean_value_rays = 0;
     const RenderResult b = render_3d_coherent(tape, o, &without);
     EXPECT_EQ(a.answers.status, b.answers.status);
     EXPECT_LT(with.leaf_solves, without.leaf_solves);
@@ -270,7 +270,7 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     o.render.camera.fov_degrees = *rc::gen::element(20.0, 35.0, 60.0);
     o.root_tile = *rc::gen::element(1u, 4u, 16u);
     o.aspect = *rc::gen::element(0.25, 0.5, 2.0);
-    o.mean_value = *rc::gen::arbitrary<bool>();
+    o.mean_value_rays = *rc::gen::element(0u, 4u, 16u, 1000u);
     o.render.threads = *rc::gen::element(1u, 2u);
     o.certified.budget = 2000;  // the image options otherwise
     const Agreement a = against_per_ray(tape, o);
