@@ -56,12 +56,26 @@ struct Field {
         }
     }
 
+    /// The box o + T·d (each coordinate rounded outward). For double intervals, in one
+    /// RoundingScope rather than one per operation (the same bounds).
+    static std::array<E, 3> points(const Ray& ray, const Interval& t) {
+        std::array<E, 3> p;
+        if constexpr (std::is_same_v<E, Interval>) {
+            RoundingScope scope;
+            const UpInterval tt(t);
+            for (int i = 0; i < 3; ++i) {
+                p[i] = Interval(UpInterval(ray.o[i]) + tt * UpInterval(ray.d[i]));
+            }
+        } else {
+            const E tt = lift(t);
+            for (int i = 0; i < 3; ++i) p[i] = E(ray.o[i]) + tt * E(ray.d[i]);
+        }
+        return p;
+    }
+
     /// G(T) ⊇ {g(t) : t ∈ T}.
     Interval g(const expr::Tape& tape, const Ray& ray, const Interval& t) {
-        std::array<E, 3> p;
-        const E tt = lift(t);
-        for (int i = 0; i < 3; ++i) p[i] = E(ray.o[i]) + tt * E(ray.d[i]);
-        return drop(value(tape, p));
+        return drop(value(tape, points(ray, t)));
     }
     /// G(T) ∩ the affine form of g in the one noise symbol of T (tighter along long segments,
     /// where interval arithmetic loses the correlation between the coordinates), given v = G(T).
@@ -81,9 +95,9 @@ struct Field {
     }
     /// G(T) and G′(T).
     D1 g_dual(const expr::Tape& tape, const Ray& ray, const Interval& t) {
+        const std::array<E, 3> x = points(ray, t);
         std::array<DE, 3> p;
-        const E tt = lift(t);
-        for (int i = 0; i < 3; ++i) p[i] = DE(E(ray.o[i]) + tt * E(ray.d[i]), {E(ray.d[i])});
+        for (int i = 0; i < 3; ++i) p[i] = DE(x[i], {E(ray.d[i])});
         const DE r = dual(tape, p);
         return D1(drop(r.a), {drop(r.v[0])});
     }
