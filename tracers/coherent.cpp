@@ -102,8 +102,16 @@ class Walker {
 
   private:
     Px& px(unsigned i, unsigned j) { return px_[(j - root_.j0) * root_.w + (i - root_.i0)]; }
+    /// The hull of the open rays of a rectangle, and the count of answered rays when it was taken.
+    struct Hull {
+        double olo[3] = {kInf, kInf, kInf}, ohi[3] = {-kInf, -kInf, -kInf};
+        double dlo[3] = {kInf, kInf, kInf}, dhi[3] = {-kInf, -kInf, -kInf};
+        double tlo = kInf, thi = -kInf;
+        unsigned count = 0;
+        std::uint64_t answered = 0;
+    };
     void node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
-              unsigned depth);
+              unsigned depth, const Hull* given = nullptr);
     void leaf(const Rect& r, double a, double b, const expr::Tape& tape);
     /// The mean value form over the box: F(c) + Σ G_i·(X_i − c_i), with G the gradient
     /// enclosure over the box X and c its centre; true when it excludes 0.
@@ -125,7 +133,9 @@ class Walker {
     expr::PruneWorkspace prune_ws_;
     Rect root_{0, 0, 0, 0};
     std::vector<Px> px_;
+    std::uint64_t answered_ = 0;  ///< rays answered so far (hulls taken before are stale)
     std::vector<Dual<UpInterval, 3>> duals_;
+    std::vector<Dual<UpInterval, 1>> duals1_;
     std::vector<UpInterval> centre_;
 };
 
@@ -140,6 +150,33 @@ bool Walker::excluded_by_mean_value(const Ssa& list, double a, double b, const d
     ++evals.interval;
     RoundingScope scope;
     const UpInterval t(a, b);
+    const bool one_ray = std::equal(olo, olo + 3, ohi) && std::equal(dlo, dlo + 3, dhi);
+    if (one_ray) {
+        // One ray: the mean value form of g(t) = f(o + t·d) in t, g(tc) + G′(T)·(T − tc), with
+        // G′ ⊇ ∇F(X)·d from one walk of Dual<UpInterval, 1> seeded with d (tighter than the form
+        // over the box X, which ignores that the points lie on one line, and half the work).
+        using D1 = Dual<UpInterval, 1>;
+        if (duals1_.size() < list.size()) duals1_.resize(list.size());
+        std::array<D1, 3> q;
+        std::array<UpInterval, 3> c;
+        const double tc = midpoint(t);
+        for (int k = 0; k < 3; ++k) {
+            const UpInterval o(olo[k]), d(dlo[k]);
+            q[k] = D1(o + t * d, {d});
+            c[k] = o + UpInterval(tc) * d;  // holds the real point o + tc·d
+        }
+        expr::detail::run<D1>(list, q, duals1_.data());
+        const D1& g = duals1_[list.back().out];
+        if (g.a.is_empty() || !g.a.defined || g.v[0].is_empty() || !std::isfinite(g.v[0].lower()) ||
+            !std::isfinite(g.v[0].upper())) {
+            return false;
+        }
+        expr::detail::run<UpInterval>(list, c, centre_.data());
+        UpInterval m = centre_[list.back().out];
+        if (m.is_empty() || !m.defined) return false;
+        m = m + g.v[0] * (t - UpInterval(tc));
+        return !possibly_zero(m);
+    }
     std::array<D, 3> p;
     std::array<UpInterval, 3> c;
     for (int k = 0; k < 3; ++k) {
@@ -183,27 +220,37 @@ void Walker::tile(const Rect& r) {
 }
 
 void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
-                  unsigned depth) {
-    // The open rays of r that meet [a, b], and the hull of their origins and directions.
-    double olo[3] = {kInf, kInf, kInf}, ohi[3] = {-kInf, -kInf, -kInf};
-    double dlo[3] = {kInf, kInf, kInf}, dhi[3] = {-kInf, -kInf, -kInf};
-    double tlo = kInf, thi = -kInf;
-    unsigned count = 0;
-    for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
-        for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
-            const Px& p = px(i, j);
-            if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
-            ++count;
-            tlo = std::min(tlo, p.ray.tmin);
-            thi = std::max(thi, p.ray.tmax);
-            for (int c = 0; c < 3; ++c) {
-                olo[c] = std::min(olo[c], p.ray.o[c]);
-                ohi[c] = std::max(ohi[c], p.ray.o[c]);
-                dlo[c] = std::min(dlo[c], p.ray.d[c]);
-                dhi[c] = std::max(dhi[c], p.ray.d[c]);
+                  unsigned depth, const Hull* given) {
+    // The open rays of r that meet [a, b], and the hull of their origins and directions. A
+    // parent's hull over the same rectangle serves while no ray has been answered since it was
+    // taken: its rays are a superset, so its box still holds them all.
+    Hull hull;
+    if (given != nullptr && given->answered == answered_) {
+        hull = *given;
+    } else {
+        hull.answered = answered_;
+        for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
+            for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
+                const Px& p = px(i, j);
+                if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
+                ++hull.count;
+                hull.tlo = std::min(hull.tlo, p.ray.tmin);
+                hull.thi = std::max(hull.thi, p.ray.tmax);
+                for (int c = 0; c < 3; ++c) {
+                    hull.olo[c] = std::min(hull.olo[c], p.ray.o[c]);
+                    hull.ohi[c] = std::max(hull.ohi[c], p.ray.o[c]);
+                    hull.dlo[c] = std::min(hull.dlo[c], p.ray.d[c]);
+                    hull.dhi[c] = std::max(hull.dhi[c], p.ray.d[c]);
+                }
             }
         }
     }
+    const unsigned count = hull.count;
+    const double* olo = hull.olo;
+    const double* ohi = hull.ohi;
+    const double* dlo = hull.dlo;
+    const double* dhi = hull.dhi;
+    const double tlo = hull.tlo, thi = hull.thi;
     if (count == 0) return;
     // Rays start no earlier than tlo and end by thi: nothing of them lies outside [tlo, thi].
     a = std::max(a, tlo);
@@ -257,8 +304,8 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
         if (t_splits_ && b - a > options_.aspect * lateral && splittable(a, b)) {
             // Near segment first: the far one only sees the rays the near one left open.
             const double m = 0.5 * a + 0.5 * b;
-            node(r, a, m, *sub, sub_tape, depth + 1);
-            node(r, m, b, *sub, sub_tape, depth + 1);
+            node(r, a, m, *sub, sub_tape, depth + 1, &hull);
+            node(r, m, b, *sub, sub_tape, depth + 1, &hull);
             return;
         }
         if (r.w > 1 || r.h > 1) {
@@ -310,6 +357,7 @@ void Walker::leaf(const Rect& r, double a, double b, const expr::Tape& tape) {
             evals += res.evals;
             answer(i, j, p.ray, res);
             p.open = false;
+            ++answered_;
         }
     }
 }
