@@ -34,6 +34,8 @@ struct Field {
     expr::Evaluator<E> value;
     expr::Evaluator<DE> dual;
     expr::Evaluator<Affine<1>> affine;
+    std::vector<UpInterval> up_regs;            ///< registers of g (E = Interval)
+    std::vector<Dual<UpInterval, 1>> up_duals;  ///< registers of g_dual (E = Interval)
 
     static E lift(const Interval& x) {
         if constexpr (std::is_same_v<E, Interval>) {
@@ -56,26 +58,28 @@ struct Field {
         }
     }
 
-    /// The box o + T·d (each coordinate rounded outward). For double intervals, in one
-    /// RoundingScope rather than one per operation (the same bounds).
+    /// The box o + T·d (each coordinate rounded outward).
     static std::array<E, 3> points(const Ray& ray, const Interval& t) {
         std::array<E, 3> p;
-        if constexpr (std::is_same_v<E, Interval>) {
-            RoundingScope scope;
-            const UpInterval tt(t);
-            for (int i = 0; i < 3; ++i) {
-                p[i] = Interval(UpInterval(ray.o[i]) + tt * UpInterval(ray.d[i]));
-            }
-        } else {
-            const E tt = lift(t);
-            for (int i = 0; i < 3; ++i) p[i] = E(ray.o[i]) + tt * E(ray.d[i]);
-        }
+        const E tt = lift(t);
+        for (int i = 0; i < 3; ++i) p[i] = E(ray.o[i]) + tt * E(ray.d[i]);
         return p;
     }
 
-    /// G(T) ⊇ {g(t) : t ∈ T}.
+    /// G(T) ⊇ {g(t) : t ∈ T}. For double intervals the box and the walk run in one RoundingScope
+    /// (the same bounds as Interval's operations, without a mode switch per operation).
     Interval g(const expr::Tape& tape, const Ray& ray, const Interval& t) {
-        return drop(value(tape, points(ray, t)));
+        if constexpr (std::is_same_v<E, Interval>) {
+            if (up_regs.size() < tape.registers()) up_regs.resize(tape.registers());
+            RoundingScope scope;
+            const UpInterval tt(t);
+            std::array<UpInterval, 3> p;
+            for (int i = 0; i < 3; ++i) p[i] = UpInterval(ray.o[i]) + tt * UpInterval(ray.d[i]);
+            expr::detail::run<UpInterval>(tape.instrs(), p, up_regs.data());
+            return Interval(up_regs[tape.output()]);
+        } else {
+            return drop(value(tape, points(ray, t)));
+        }
     }
     /// G(T) ∩ the affine form of g in the one noise symbol of T (tighter along long segments,
     /// where interval arithmetic loses the correlation between the coordinates), given v = G(T).
@@ -95,11 +99,26 @@ struct Field {
     }
     /// G(T) and G′(T).
     D1 g_dual(const expr::Tape& tape, const Ray& ray, const Interval& t) {
-        const std::array<E, 3> x = points(ray, t);
-        std::array<DE, 3> p;
-        for (int i = 0; i < 3; ++i) p[i] = DE(x[i], {E(ray.d[i])});
-        const DE r = dual(tape, p);
-        return D1(drop(r.a), {drop(r.v[0])});
+        if constexpr (std::is_same_v<E, Interval>) {
+            using UD = Dual<UpInterval, 1>;
+            if (up_duals.size() < tape.registers()) up_duals.resize(tape.registers());
+            RoundingScope scope;
+            const UpInterval tt(t);
+            std::array<UD, 3> p;
+            for (int i = 0; i < 3; ++i) {
+                const UpInterval d(ray.d[i]);
+                p[i] = UD(UpInterval(ray.o[i]) + tt * d, {d});
+            }
+            expr::detail::run<UD>(tape.instrs(), p, up_duals.data());
+            const UD& r = up_duals[tape.output()];
+            return D1(Interval(r.a), {Interval(r.v[0])});
+        } else {
+            const std::array<E, 3> x = points(ray, t);
+            std::array<DE, 3> p;
+            for (int i = 0; i < 3; ++i) p[i] = DE(x[i], {E(ray.d[i])});
+            const DE r = dual(tape, p);
+            return D1(drop(r.a), {drop(r.v[0])});
+        }
     }
 };
 

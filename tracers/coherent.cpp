@@ -148,7 +148,6 @@ bool Walker::excluded_by_mean_value(const Ssa& list, double a, double b, const d
     stats.box_instructions += 2 * list.size();
     ++evals.gradient;
     ++evals.interval;
-    RoundingScope scope;
     const UpInterval t(a, b);
     const bool one_ray = std::equal(olo, olo + 3, ohi) && std::equal(dlo, dlo + 3, dhi);
     if (one_ray) {
@@ -215,7 +214,14 @@ void Walker::tile(const Rect& r) {
             b = std::max(b, p.ray.tmax);
         }
     }
-    if (a <= b) node(r, a, b, tape_.ssa(), &tape_, 0);
+    if (a <= b) {
+        // One RoundingScope for the whole walk (a mode switch costs more than a box evaluation of
+        // a short tape): node() and the mean value form compute UpIntervals in it; their plain
+        // double arithmetic only picks split points, whose rounding does not matter; the solver
+        // and the normals open a NearestScope of their own.
+        RoundingScope up;
+        node(r, a, b, tape_.ssa(), &tape_, 0);
+    }
     // Open rays left are proven free of zeros on their whole segment: Misses (the default).
 }
 
@@ -261,7 +267,6 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     if (level.values.size() < list.size()) level.values.resize(list.size());
     UpInterval f;
     {
-        RoundingScope scope;
         const UpInterval t(a, b);
         std::array<UpInterval, 3> box;
         for (int c = 0; c < 3; ++c) {
@@ -374,6 +379,7 @@ void Walker::answer(unsigned i, unsigned j, const Ray& ray, const RayResult& res
         out.evals += before;
     }
     if (res.status != Status::Hit) return;
+    NearestScope env;  // as render_3d computes the normal
     const Vec3 q{ray.o[0] + res.t * ray.d[0], ray.o[1] + res.t * ray.d[1],
                  ray.o[2] + res.t * ray.d[2]};
     const Dual<double, 3> g = expr::gradient(tape_, q);
