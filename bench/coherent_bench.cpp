@@ -2,16 +2,17 @@
 // certified solve per pixel (render_3d with `certified`), Google Benchmark.
 //
 // Scenes: scenes/barth_sextic.vm over [−2, 2]³, framed as `certray render` frames it (the cells
-// where the surface may be, seen from (1, −2, 0.8), fov 35°), and the Fidget models of
-// /work/shared/models (CERTRAY_MODELS_DIR) over [−1, 1]³. Pinhole and ortho (heightmap along −z)
-// cameras; sizes 256², 512², 1024². Wall-clock time (UseRealTime): the renders are threaded; the
-// CPU column is the whole process's (MeasureProcessCPUTime), steadier on a shared machine.
-// `image` 1: the solver options an image needs (CertifiedOptions::exact_narrowing off, hit_width
-// 1e-6), for both engines; 0: the defaults (hits narrowed to 4 ulps, by the exact oracle where the
-// intervals cannot). Counters per pixel: whole-tape evaluations (evals/px: box evaluations and
-// every solve's), box evaluations (boxes/px), leaf solves (leaves/px), and the image's
-// hit/miss/unknown counts. Command: build/bench/coherent_bench [--benchmark_filter=…]; results in
-// docs/benchmarks.md, "Coherent certified rendering".
+// where the surface may be, seen from (1, −2, 0.8), fov 35°), Fidget's 2D models
+// scenes/fidget/hi.vm and quarter.vm (prisms along z) over [−1, 1]³, and scenes/tanglecube.vm.
+// Pinhole and ortho (heightmap along −z) cameras; sizes 256², 512², 1024². Wall-clock time
+// (UseRealTime): the renders are threaded; the CPU column is the whole process's
+// (MeasureProcessCPUTime), steadier on a shared machine. `image` 1: the solver options an image
+// needs (CertifiedOptions::exact_narrowing off, hit_width 1e-6), for both engines; 0: the defaults
+// (hits narrowed to 4 ulps, by the exact oracle where the intervals cannot). Counters per pixel:
+// whole-tape evaluations (evals/px: box evaluations and every solve's), box evaluations (boxes/px),
+// leaf solves (leaves/px), and the image's hit/miss/unknown counts. Command:
+// build/bench/coherent_bench [--benchmark_filter=…]; results in docs/benchmarks.md, "Coherent
+// certified rendering".
 #include <benchmark/benchmark.h>
 
 #include <string>
@@ -34,8 +35,8 @@ struct Scene {
     double lo, hi;
 };
 const Scene kScenes[] = {{CERTRAY_SCENES_DIR "/barth_sextic.vm", -2, 2},
-                         {CERTRAY_MODELS_DIR "/hi.vm", -1, 1},
-                         {CERTRAY_MODELS_DIR "/quarter.vm", -1, 1},
+                         {CERTRAY_SCENES_DIR "/fidget/hi.vm", -1, 1},
+                         {CERTRAY_SCENES_DIR "/fidget/quarter.vm", -1, 1},
                          {CERTRAY_SCENES_DIR "/tanglecube.vm", -2, 2}};
 
 const expr::Tape& tape_of(int scene) {

@@ -23,6 +23,7 @@
 #include "expr/parser.h"
 #include "expr/tape.h"
 #include "solvers/certified.h"
+#include "tests/support/fp_env.h"
 #include "tests/support/random_dag.h"
 
 namespace certray::tracers {
@@ -83,7 +84,10 @@ Agreement against_per_ray(const expr::Tape& tape, const CoherentOptions& o, bool
                           unsigned stride = 1) {
     CoherentStats stats;
     std::vector<RayResult> results;
-    const RenderResult r = render_3d_coherent(tape, o, &stats, &results);
+    // Rendered as a host in CERTRAY_HOST_FPENV's state would call it (the default state unless the
+    // fpenv runs set one): the answers must not depend on it.
+    const RenderResult r =
+        testing::as_host([&] { return render_3d_coherent(tape, o, &stats, &results); });
     const PixelRays rays(o);
     // The per-ray `certified` method: the solver's defaults, with the same budget per solve.
     solvers::CertifiedOptions per_ray;
