@@ -36,6 +36,8 @@ struct Field {
     expr::Evaluator<DE> dual;
     expr::Evaluator<Affine<1>> affine;
     expr::Evaluator<IntervalPair> pair;
+    std::vector<UpInterval> up_regs;            ///< registers of g (E = Interval)
+    std::vector<Dual<UpInterval, 1>> up_duals;  ///< registers of g_dual (E = Interval)
 
     static E lift(const Interval& x) {
         if constexpr (std::is_same_v<E, Interval>) {
@@ -58,12 +60,28 @@ struct Field {
         }
     }
 
-    /// G(T) ⊇ {g(t) : t ∈ T}.
-    Interval g(const expr::Tape& tape, const Ray& ray, const Interval& t) {
+    /// The box o + T·d (each coordinate rounded outward).
+    static std::array<E, 3> points(const Ray& ray, const Interval& t) {
         std::array<E, 3> p;
         const E tt = lift(t);
         for (int i = 0; i < 3; ++i) p[i] = E(ray.o[i]) + tt * E(ray.d[i]);
-        return drop(value(tape, p));
+        return p;
+    }
+
+    /// G(T) ⊇ {g(t) : t ∈ T}. For double intervals the box and the walk run in one RoundingScope
+    /// (the same bounds as Interval's operations, without a mode switch per operation).
+    Interval g(const expr::Tape& tape, const Ray& ray, const Interval& t) {
+        if constexpr (std::is_same_v<E, Interval>) {
+            if (up_regs.size() < tape.registers()) up_regs.resize(tape.registers());
+            RoundingScope scope;
+            const UpInterval tt(t);
+            std::array<UpInterval, 3> p;
+            for (int i = 0; i < 3; ++i) p[i] = UpInterval(ray.o[i]) + tt * UpInterval(ray.d[i]);
+            expr::detail::run<UpInterval>(tape.instrs(), p, up_regs.data());
+            return Interval(up_regs[tape.output()]);
+        } else {
+            return drop(value(tape, points(ray, t)));
+        }
     }
     /// G(T) ∩ the affine form of g in the one noise symbol of T (tighter along long segments,
     /// where interval arithmetic loses the correlation between the coordinates), given v = G(T).
@@ -91,11 +109,26 @@ struct Field {
     }
     /// G(T) and G′(T).
     D1 g_dual(const expr::Tape& tape, const Ray& ray, const Interval& t) {
-        std::array<DE, 3> p;
-        const E tt = lift(t);
-        for (int i = 0; i < 3; ++i) p[i] = DE(E(ray.o[i]) + tt * E(ray.d[i]), {E(ray.d[i])});
-        const DE r = dual(tape, p);
-        return D1(drop(r.a), {drop(r.v[0])});
+        if constexpr (std::is_same_v<E, Interval>) {
+            using UD = Dual<UpInterval, 1>;
+            if (up_duals.size() < tape.registers()) up_duals.resize(tape.registers());
+            RoundingScope scope;
+            const UpInterval tt(t);
+            std::array<UD, 3> p;
+            for (int i = 0; i < 3; ++i) {
+                const UpInterval d(ray.d[i]);
+                p[i] = UD(UpInterval(ray.o[i]) + tt * d, {d});
+            }
+            expr::detail::run<UD>(tape.instrs(), p, up_duals.data());
+            const UD& r = up_duals[tape.output()];
+            return D1(Interval(r.a), {Interval(r.v[0])});
+        } else {
+            const std::array<E, 3> x = points(ray, t);
+            std::array<DE, 3> p;
+            for (int i = 0; i < 3; ++i) p[i] = DE(x[i], {E(ray.d[i])});
+            const DE r = dual(tape, p);
+            return D1(drop(r.a), {drop(r.v[0])});
+        }
     }
 };
 
@@ -130,6 +163,13 @@ class Solver {
 
   private:
     bool out_of_budget() const { return result_.evals.total() >= options_.budget; }
+    /// A hit enclosure needs no more narrowing: a few ulps, or options.hit_width relative to |t|.
+    bool narrow_enough(const Interval& t) const {
+        if (narrow(t.lower(), t.upper())) return true;
+        const double scale = std::max(std::fabs(t.lower()), std::fabs(t.upper()));
+        return options_.hit_width > 0 && std::isfinite(scale) &&
+               t.upper() - t.lower() <= options_.hit_width * scale;
+    }
 
     /// G(T): g over the parameter interval T.
     Interval g(const Interval& t) {
@@ -278,7 +318,7 @@ RayResult Solver<E>::hit(Interval t) {
         return sa;
     };
     // Newton's contraction keeps every zero of T (whether or not uniqueness was proven).
-    for (int it = 0; it < 64 && !narrow(t.lower(), t.upper()) && !out_of_budget(); ++it) {
+    for (int it = 0; it < 64 && !narrow_enough(t) && !out_of_budget(); ++it) {
         bool unique = false;
         const D1 gt = g_dual(t);
         const Interval next = newton(t, gt, unique);
@@ -289,7 +329,7 @@ RayResult Solver<E>::hit(Interval t) {
     if (t.lower() != lp && moved_to(t.lower()) == 0) {
         return finish(Status::Hit, t.lower(), t.lower());
     }
-    while (!narrow(t.lower(), t.upper()) && !out_of_budget() && std::isfinite(t.upper())) {
+    while (!narrow_enough(t) && !out_of_budget() && std::isfinite(t.upper())) {
         // Split at the midpoint; where g's sign there is undecided (the split hit the root
         // itself, say), at the quarter points instead.
         const double m = midpoint(t);
@@ -466,7 +506,8 @@ RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
     thread_local Scratch<Interval> scratch;
     RayResult r = Solver<Interval>(tape, ray, options, scratch).solve();
     if (r.status == Status::Miss ||
-        (r.status == Status::Hit && (!options.tighten || narrow(r.t_lo, r.t_hi)))) {
+        (r.status == Status::Hit &&
+         (!options.tighten || options.hit_width > 0 || narrow(r.t_lo, r.t_hi)))) {
         return r;
     }
     // Undecided or wide: on a polynomial scene the exact oracle decides, within what is left of

@@ -23,16 +23,22 @@ struct CertifiedOptions {
     /// symbol, and use the intersection with the interval enclosure (two evaluations, counted).
     bool affine = false;
     /// On a polynomial scene, also re-decide a Hit wider than 4 ulps with the exact oracle (about
-    /// 100 µs per such ray on the Barth sextic); an Unknown is re-decided either way.
+    /// 100 µs per such ray on the Barth sextic); an Unknown is re-decided either way. Images need
+    /// no 4-ulp depths (docs/benchmarks.md, "Coherent certified rendering").
     bool tighten = true;
+    /// A Hit enclosure is narrowed until it is a few ulps wide or, when this is > 0, until
+    /// t_hi − t_lo ≤ hit_width · max(|t_lo|, |t_hi|) (an image needs no 4-ulp depths). The answer
+    /// keeps its meaning; only the enclosure may be wider. A Hit left wider than 4 ulps this way is
+    /// not narrowed by the exact oracle either.
+    double hit_width = 0;
 };
 
 /// The first root of g(t) = f(o + t·d) on [ray.tmin, ray.tmax], certified (see the contract).
-/// When the interval search ends Unknown, or with a Hit wider than 4 ulps (`tighten`), and the tape
-/// is a polynomial (solvers/exact.h, is_polynomial), the exact rational oracle re-decides within
-/// what is left of the budget and its answer is returned, with its evaluations added (a tangent
-/// root becomes a Hit of adjacent doubles). Thread-safe: each thread uses its own scratch space,
-/// allocated once.
+/// When the interval search ends Unknown, or with a Hit wider than 4 ulps (and options.tighten),
+/// and the tape is a polynomial (solvers/exact.h, is_polynomial), the exact rational oracle
+/// re-decides within what is left of the budget and its answer is returned, with its evaluations
+/// added (a tangent root becomes a Hit of adjacent doubles). Thread-safe: each thread uses its own
+/// scratch space, allocated once.
 RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
                                const CertifiedOptions& options = {});
 

@@ -42,7 +42,7 @@ def test_approximate_methods_say_so_and_knobs_are_checked():
     hits, stats = scene.query(rays, method="sphere", epsilon=1e-9, bounds=(-2, 2))
     assert stats["certified"] is False
     assert abs(hits["t"][0] - 2.0) < 1e-6
-    with pytest.raises(ValueError, match="method 'certified' does not read 'samples'; its knobs: budget"):
+    with pytest.raises(ValueError, match="method 'certified' does not read 'samples'; its knobs: budget, tighten"):
         scene.query(rays, samples=8)
     with pytest.raises(ValueError, match="unknown method 'magic'"):
         scene.query(rays, method="magic")
@@ -76,7 +76,7 @@ def test_registry():
     methods = {m["name"]: m for m in certray.methods()}
     assert methods["certified"]["certified"] is True
     assert methods["sphere"]["certified"] is False
-    assert methods["certified"]["knobs"] == {"budget": 20000.0}
+    assert methods["certified"]["knobs"] == {"budget": 20000.0, "tighten": 1.0}
     assert "epsilon" in methods["sphere"]["sweep"]
 
 

@@ -97,7 +97,7 @@ TEST(Api, BadInputIsAnExceptionNamingWhat) {
     unread.method = "certified";
     unread.knobs.values = {{"samples", 8}};
     EXPECT_EQ(message({ok}, unread),
-              "method 'certified' does not read 'samples'; its knobs: budget");
+              "method 'certified' does not read 'samples'; its knobs: budget, tighten");
     QueryOptions out_of_range;
     out_of_range.method = "hermite";
     out_of_range.knobs.values = {{"samples", 0.5}};

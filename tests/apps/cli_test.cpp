@@ -121,7 +121,8 @@ TEST_F(Cli, IoErrorsExitThree) {
 TEST_F(Cli, KnobsTheMethodDoesNotReadAreUsageErrors) {
     // The registry (tracers/methods.h): certified reads only --budget; hermite only --samples.
     EXPECT_EQ(query("--bounds -1 1"), 2);
-    EXPECT_TRUE(err_has("method 'certified' does not read 'bounds'; its knobs: budget")) << err_;
+    EXPECT_TRUE(err_has("method 'certified' does not read 'bounds'; its knobs: budget, tighten"))
+        << err_;
     EXPECT_EQ(run("query sphere.expr --rays rays.csv --method hermite --out h.csv --budget 5"), 2);
     EXPECT_TRUE(err_has("method 'hermite' does not read 'budget'; its knobs: samples")) << err_;
     EXPECT_EQ(run("query sphere.expr --rays rays.csv --method hermite --out h.csv --samples 8"), 0)

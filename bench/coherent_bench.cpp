@@ -1,0 +1,191 @@
+// bench/coherent_bench.cpp — coherent certified rendering (tracers/coherent.h) against one
+// certified solve per pixel (render_3d with `certified`), Google Benchmark.
+//
+// Scenes: scenes/barth_sextic.vm over [−2, 2]³, framed as `certray render` frames it (the cells
+// where the surface may be, seen from (1, −2, 0.8), fov 35°), Fidget's 2D models
+// scenes/fidget/hi.vm and quarter.vm (prisms along z) over [−1, 1]³, and scenes/tanglecube.vm.
+// Pinhole and ortho (heightmap along −z) cameras; sizes 256², 512², 1024². Wall-clock time
+// (UseRealTime): the renders are threaded; the CPU column is the whole process's
+// (MeasureProcessCPUTime), steadier on a shared machine. `image` 1: the solver options an image
+// needs (CertifiedOptions::tighten off, hit_width 1e-6), for both engines; 0: the defaults
+// (hits narrowed to 4 ulps, by the exact oracle where the intervals cannot). Counters per pixel:
+// whole-tape evaluations (evals/px: box evaluations and every solve's), box evaluations (boxes/px),
+// leaf solves (leaves/px), and the image's hit/miss/unknown counts. Command:
+// build/bench/coherent_bench [--benchmark_filter=…]; results in docs/benchmarks.md, "Coherent
+// certified rendering".
+#include <benchmark/benchmark.h>
+
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "expr/load.h"
+#include "expr/tape.h"
+#include "solvers/certified.h"
+#include "tracers/camera.h"
+#include "tracers/coherent.h"
+#include "tracers/methods.h"
+#include "tracers/render.h"
+
+namespace certray {
+namespace {
+
+struct Scene {
+    const char* path;
+    double lo, hi;
+};
+const Scene kScenes[] = {{CERTRAY_SCENES_DIR "/barth_sextic.vm", -2, 2},
+                         {CERTRAY_SCENES_DIR "/fidget/hi.vm", -1, 1},
+                         {CERTRAY_SCENES_DIR "/fidget/quarter.vm", -1, 1},
+                         {CERTRAY_SCENES_DIR "/tanglecube.vm", -2, 2}};
+
+const expr::Tape& tape_of(int scene) {
+    static std::vector<expr::Tape> tapes = [] {
+        std::vector<expr::Tape> t;
+        for (const Scene& s : kScenes) t.emplace_back(expr::load_graph_file(s.path));
+        return t;
+    }();
+    return tapes[scene];
+}
+
+/// The options of a square image of `scene`: bounds, and the CLI's auto-framed pinhole camera;
+/// `image`: the solver options for images (no exact narrowing of hits, hit width 1e-6 relative).
+tracers::CoherentOptions options(int scene, unsigned side, bool ortho, unsigned threads,
+                                 bool image) {
+    tracers::CoherentOptions o;
+    o.certified = image ? tracers::image_solver_options() : solvers::CertifiedOptions{};
+    const Scene& s = kScenes[scene];
+    o.render.width = o.render.height = side;
+    for (auto& a : o.render.bounds) a = {s.lo, s.hi};
+    const std::vector<tracers::Box3> cells =
+        tracers::surface_cells(tape_of(scene), o.render.bounds);
+    const auto extent = tracers::hull(cells);
+    o.render.camera = extent ? tracers::frame_boxes(cells, *extent, 35, 1.0)
+                             : tracers::frame_box(o.render.bounds, 35, 1.0);
+    o.render.threads = threads;
+    o.projection = ortho ? tracers::Projection::Ortho : tracers::Projection::Pinhole;
+    return o;
+}
+
+void report(benchmark::State& state, const tracers::RenderResult& r, double pixels) {
+    state.counters["evals/px"] = static_cast<double>(r.stats.evals.total()) / pixels;
+    state.counters["hit"] = static_cast<double>(r.stats.hit);
+    state.counters["miss"] = static_cast<double>(r.stats.miss);
+    state.counters["unknown"] = static_cast<double>(r.stats.unknown);
+}
+
+/// Arguments: scene, side, ortho, threads.
+void BM_Coherent(benchmark::State& state) {
+    const int scene = static_cast<int>(state.range(0));
+    const unsigned side = static_cast<unsigned>(state.range(1));
+    const tracers::CoherentOptions o =
+        options(scene, side, state.range(2) != 0, static_cast<unsigned>(state.range(3)),
+                state.range(4) != 0);
+    tracers::RenderResult r;
+    tracers::CoherentStats s;
+    for (auto _ : state) {
+        r = tracers::render_3d_coherent(tape_of(scene), o, &s);
+        benchmark::DoNotOptimize(r.stats.hit);
+    }
+    const double px = static_cast<double>(side) * side;
+    report(state, r, px);
+    state.counters["boxes/px"] = static_cast<double>(s.box_evals) / px;
+    state.counters["leaves/px"] = static_cast<double>(s.leaf_solves) / px;
+    state.counters["box_len"] =
+        s.box_evals > 0 ? static_cast<double>(s.box_instructions) / s.box_evals : 0;
+}
+
+/// The per-ray baseline: render_3d with the `certified` method on the same rays.
+void BM_PerRay(benchmark::State& state) {
+    const int scene = static_cast<int>(state.range(0));
+    const unsigned side = static_cast<unsigned>(state.range(1));
+    const bool ortho = state.range(2) != 0;
+    const tracers::CoherentOptions o =
+        options(scene, side, ortho, static_cast<unsigned>(state.range(3)), state.range(4) != 0);
+    const tracers::PixelRays rays(o);
+    const expr::Tape& tape = tape_of(scene);
+    const solvers::CertifiedOptions co = o.certified;
+    const tracers::RayFunction certified = [&tape, co](const Ray& ray) {
+        return solvers::certified_first_root(tape, ray, co);
+    };
+    tracers::RenderResult r;
+    for (auto _ : state) {
+        if (!ortho) {
+            r = tracers::render_3d(tape, certified, o.render);
+        } else {
+            // render_3d has no ortho camera: the same per-pixel loop over PixelRays' rays, rows
+            // dealt out to the threads.
+            const unsigned threads = static_cast<unsigned>(state.range(3));
+            std::vector<tracers::RenderStats> part(threads);
+            std::vector<std::thread> pool;
+            for (unsigned w = 0; w < threads; ++w) {
+                pool.emplace_back([&, w] {
+                    for (unsigned j = w; j < side; j += threads) {
+                        for (unsigned i = 0; i < side; ++i) {
+                            Ray ray;
+                            if (!rays.ray(i, j, ray)) continue;
+                            const RayResult a = certified(ray);
+                            part[w].evals += a.evals;
+                            part[w].hit += a.status == Status::Hit;
+                            part[w].miss += a.status == Status::Miss;
+                            part[w].unknown += a.status == Status::Unknown;
+                        }
+                    }
+                });
+            }
+            for (std::thread& t : pool) t.join();
+            r.stats = {};
+            for (const tracers::RenderStats& p : part) {
+                r.stats.evals += p.evals;
+                r.stats.hit += p.hit;
+                r.stats.miss += p.miss;
+                r.stats.unknown += p.unknown;
+            }
+        }
+        benchmark::DoNotOptimize(r.stats.hit);
+    }
+    report(state, r, static_cast<double>(side) * side);
+}
+
+// Arguments: scene (0 Barth, 1 hi, 2 quarter, 3 tanglecube), side, ortho, threads, image options.
+BENCHMARK(BM_Coherent)
+    ->ArgNames({"scene", "side", "ortho", "threads", "image"})
+    ->Args({0, 512, 0, 2, 0})
+    ->Args({0, 512, 0, 2, 1})
+    ->Args({0, 512, 1, 2, 0})
+    ->Args({0, 512, 1, 2, 1})
+    ->Args({0, 512, 0, 1, 1})
+    ->Args({0, 256, 0, 2, 1})
+    ->Args({0, 1024, 0, 2, 1})
+    ->Args({0, 256, 1, 2, 1})
+    ->Args({0, 1024, 1, 2, 1})
+    ->Args({1, 256, 1, 2, 1})
+    ->Args({1, 512, 1, 2, 1})
+    ->Args({2, 256, 1, 2, 1})
+    ->Args({2, 512, 1, 2, 1})
+    ->Args({1, 256, 0, 2, 1})
+    ->Args({2, 256, 0, 2, 1})
+    ->Args({3, 512, 0, 2, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+BENCHMARK(BM_PerRay)
+    ->ArgNames({"scene", "side", "ortho", "threads", "image"})
+    ->Args({0, 512, 0, 2, 0})
+    ->Args({0, 512, 0, 2, 1})
+    ->Args({0, 512, 1, 2, 0})
+    ->Args({0, 512, 1, 2, 1})
+    ->Args({1, 256, 1, 2, 1})
+    ->Args({2, 256, 1, 2, 1})
+    ->Args({1, 256, 0, 2, 1})
+    ->Args({2, 256, 0, 2, 1})
+    ->Args({3, 512, 0, 2, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime()
+    ->Iterations(1);
+
+}  // namespace
+}  // namespace certray
+
+BENCHMARK_MAIN();

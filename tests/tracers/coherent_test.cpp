@@ -1,0 +1,286 @@
+// tests/tracers/coherent_test.cpp — the coherent certified renderer (tracers/coherent.h) against
+// the per-ray certified solver on the same rays, and against the MPFR reference.
+//
+// Agreement, pixel by pixel: the same status; two Hits both enclose the first root (a zero in the
+// enclosure and none before it), so their enclosures intersect and each t_lo is at most the other's
+// t_hi. On the gallery (pinhole and ortho) every pixel must agree. On random DAGs under random
+// cameras the two may decide differently only where one says Unknown (their bisection grids and
+// pruned tapes differ, and an undecided case is honest); a Hit against a Miss, or disjoint Hits,
+// is a wrong answer of one of them and fails.
+#include "tracers/coherent.h"
+
+#include <gtest/gtest.h>
+#include <rapidcheck.h>
+#include <rapidcheck/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "expr/load.h"
+#include "expr/parser.h"
+#include "expr/tape.h"
+#include "solvers/certified.h"
+#include "tests/support/fp_env.h"
+#include "tests/support/random_dag.h"
+
+namespace certray::tracers {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kScenes = fs::path(CERTRAY_SOURCE_DIR) / "scenes";
+
+/// How the coherent answers compare with a per-ray solver's.
+struct Agreement {
+    unsigned rays = 0;        ///< pixels whose ray meets the bounds
+    unsigned same = 0;        ///< same status (and consistent Hits)
+    unsigned undecided = 0;   ///< one Unknown, the other decided
+    unsigned wrong = 0;       ///< Hit against Miss, or Hits that cannot both hold
+    std::string first_wrong;  ///< where the first wrong one is, and what each said
+};
+
+std::string describe(const RayResult& r) {
+    return std::string(name(r.status)) + " [" + std::to_string(r.t_lo) + ", " +
+           std::to_string(r.t_hi) + "]";
+}
+
+/// Whether two answers on one ray agree: the same status, and for two Hits enclosures that can
+/// both hold the first root (each t_lo at most the other's t_hi).
+bool agree(const RayResult& a, const RayResult& b) {
+    if (a.status != b.status) return false;
+    if (a.status != Status::Hit) return true;
+    return a.t_lo <= b.t_hi && b.t_lo <= a.t_hi;
+}
+
+/// Whether two answers on one ray contradict each other (at least one is wrong).
+bool contradict(const RayResult& a, const RayResult& b) {
+    if (a.status == Status::Unknown || b.status == Status::Unknown) return false;
+    return !agree(a, b);
+}
+
+void tally(Agreement& a, unsigned i, unsigned j, const RayResult& coherent, const RayResult& ref) {
+    ++a.rays;
+    if (agree(coherent, ref)) {
+        ++a.same;
+        return;
+    }
+    if (!contradict(coherent, ref)) {
+        ++a.undecided;
+        return;
+    }
+    if (a.wrong++ == 0) {
+        a.first_wrong = "pixel (" + std::to_string(i) + ", " + std::to_string(j) + "): coherent " +
+                        describe(coherent) + ", per-ray " + describe(ref);
+    }
+}
+
+/// The coherent render of `tape` compared with the per-ray certified solver (its default options)
+/// on every pixel's ray
+/// (every `stride`-th pixel for the MPFR reference, when `reference` is set).
+Agreement against_per_ray(const expr::Tape& tape, const CoherentOptions& o, bool reference = false,
+                          unsigned stride = 1) {
+    CoherentStats stats;
+    std::vector<RayResult> results;
+    // Rendered as a host in CERTRAY_HOST_FPENV's state would call it (the default state unless the
+    // fpenv runs set one): the answers must not depend on it.
+    const RenderResult r =
+        testing::as_host([&] { return render_3d_coherent(tape, o, &stats, &results); });
+    const PixelRays rays(o);
+    // The per-ray `certified` method: the solver's defaults, with the same budget per solve.
+    solvers::CertifiedOptions per_ray;
+    per_ray.budget = o.certified.budget;
+    Agreement a;
+    std::size_t k = 0;
+    for (unsigned j = 0; j < o.render.height; ++j) {
+        for (unsigned i = 0; i < o.render.width; ++i, ++k) {
+            EXPECT_EQ(r.answers.status[k], results[k].status);
+            EXPECT_EQ(r.answers.evals[k], results[k].evals.total());
+            Ray ray;
+            if (!rays.ray(i, j, ray)) {
+                EXPECT_EQ(results[k].status, Status::Miss);
+                EXPECT_EQ(results[k].evals.total(), 0u);
+                continue;
+            }
+            if (k % stride != 0) continue;
+            const RayResult ref = reference
+                                      ? solvers::certified_first_root_reference(tape, ray, per_ray)
+                                      : solvers::certified_first_root(tape, ray, per_ray);
+            tally(a, i, j, results[k], ref);
+        }
+    }
+    return a;
+}
+
+/// The 3D scenes of the gallery (.vm and .expr that read z).
+std::vector<fs::path> gallery() {
+    std::vector<fs::path> out;
+    for (const auto& e : fs::directory_iterator(kScenes)) {
+        const std::string ext = e.path().extension().string();
+        if (ext != ".vm" && ext != ".expr") continue;
+        if (e.path().filename() == "prospero.vm") continue;  // 2D
+        out.push_back(e.path());
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+CoherentOptions small_view(Projection p) {
+    CoherentOptions o;
+    o.render.width = o.render.height = 48;
+    o.render.bounds = {{{-2, 2}, {-2, 2}, {-2, 2}}};
+    o.render.camera = frame_box(o.render.bounds, 35, 1.0);
+    o.render.threads = 2;
+    o.projection = p;
+    return o;
+}
+
+TEST(Coherent, GalleryAgreesWithThePerRaySolverPixelByPixel) {
+    unsigned scenes = 0;
+    for (const fs::path& path : gallery()) {
+        const expr::Tape tape(expr::load_graph_file(path.string()));
+        if (!tape.uses_var(2)) continue;
+        ++scenes;
+        for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
+            const CoherentOptions o = small_view(p);
+            const Agreement a = against_per_ray(tape, o);
+            const std::string where =
+                path.filename().string() + (p == Projection::Pinhole ? " pinhole" : " ortho");
+            EXPECT_EQ(a.wrong, 0u) << where << ": " << a.first_wrong;
+            EXPECT_EQ(a.undecided, 0u) << where;
+            EXPECT_EQ(a.same, a.rays) << where;
+            EXPECT_GT(a.rays, 0u) << where;
+        }
+    }
+    EXPECT_GE(scenes, 10u);
+}
+
+TEST(Coherent, PerRaySolverDefaultsKeepTheAnswers) {
+    // The solver's defaults (4-ulp hits, the exact oracle narrowing them) instead of the image
+    // options: the same statuses, Hits still consistent.
+    const expr::Tape tape(expr::load_graph_file((kScenes / "barth_sextic.vm").string()));
+    for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
+        CoherentOptions o = small_view(p);
+        o.certified = {};
+        o.render.width = o.render.height = 32;
+        const Agreement a = against_per_ray(tape, o);
+        EXPECT_EQ(a.wrong, 0u) << a.first_wrong;
+        EXPECT_EQ(a.same, a.rays);
+    }
+}
+
+TEST(Coherent, AgreesWithTheMpfrReferenceOnASubsetOfPixels) {
+    for (const char* scene : {"barth_sextic.vm", "torus.expr", "gyroid.expr", "csg.expr"}) {
+        const expr::Tape tape(expr::load_graph_file((kScenes / scene).string()));
+        for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
+            CoherentOptions o = small_view(p);
+            o.render.width = o.render.height = 24;
+            const Agreement a = against_per_ray(tape, o, /*reference=*/true, /*stride=*/7);
+            EXPECT_EQ(a.wrong, 0u) << scene << ": " << a.first_wrong;
+            EXPECT_GE(a.same + a.undecided, a.rays) << scene;
+            EXPECT_GT(a.rays, 20u) << scene;
+        }
+    }
+}
+
+TEST(Coherent, ThreadsAndMeanValueFormDoNotChangeAnswersAndMeanValueSavesWork) {
+    const expr::Tape tape(expr::load_graph_file((kScenes / "barth_sextic.vm").string()));
+    CoherentOptions o = small_view(Projection::Pinhole);
+    o.render.threads = 1;
+    std::vector<RayResult> one, two;
+    render_3d_coherent(tape, o, nullptr, &one);
+    o.render.threads = 3;
+    render_3d_coherent(tape, o, nullptr, &two);
+    ASSERT_EQ(one.size(), two.size());
+    for (std::size_t k = 0; k < one.size(); ++k) {
+        EXPECT_EQ(one[k].status, two[k].status);
+        if (one[k].status != Status::Miss) {
+            EXPECT_EQ(one[k].t_lo, two[k].t_lo);
+        }
+        EXPECT_EQ(one[k].evals.total(), two[k].evals.total());
+    }
+    CoherentStats with, without;
+    o.mean_value_rays = 16;
+    const RenderResult a = render_3d_coherent(tape, o, &with);
+    o.mean_value_rays = 0;
+    const RenderResult b = render_3d_coherent(tape, o, &without);
+    EXPECT_EQ(a.answers.status, b.answers.status);
+    EXPECT_LT(with.leaf_solves, without.leaf_solves);
+}
+
+TEST(Coherent, OrthoRaysAreTheHeightmapRays) {
+    CoherentOptions o;
+    o.projection = Projection::Ortho;
+    o.render.width = 4;
+    o.render.height = 2;
+    o.render.bounds = {{{-1, 1}, {-1, 1}, {-0.5, 1.5}}};
+    const PixelRays rays(o);
+    Ray r;
+    ASSERT_TRUE(rays.ray(0, 0, r));
+    EXPECT_EQ(r.o[0], -0.75);
+    EXPECT_EQ(r.o[1], 0.5);
+    EXPECT_EQ(r.o[2], 1.5);
+    EXPECT_EQ(r.d[2], -1.0);
+    EXPECT_EQ(r.tmin, 0.0);
+    EXPECT_GE(r.tmax, 2.0);
+    ASSERT_TRUE(rays.ray(3, 1, r));
+    EXPECT_EQ(r.o[0], 0.75);
+    EXPECT_EQ(r.o[1], -0.5);
+    o.render.bounds[2] = {1, 1};
+    EXPECT_THROW(PixelRays{o}, std::invalid_argument);
+    o.render.width = 0;
+    EXPECT_THROW(render_3d_coherent(expr::Tape(expr::parse_expr("x + y + z")), o),
+                 std::invalid_argument);
+}
+
+TEST(Coherent, PinholeRaysAreRender3dRays) {
+    const CoherentOptions o = small_view(Projection::Pinhole);
+    const PixelRays rays(o);
+    const CameraFrame frame(o.render.camera, o.render.width, o.render.height);
+    for (unsigned j = 0; j < o.render.height; j += 5) {
+        for (unsigned i = 0; i < o.render.width; i += 3) {
+            Ray a, b = frame.ray(i + 0.5, j + 0.5);
+            const bool in = clip_ray(b, o.render.bounds);
+            ASSERT_EQ(rays.ray(i, j, a), in);
+            if (!in) continue;
+            EXPECT_EQ(a.o, b.o);
+            EXPECT_EQ(a.d, b.d);
+            EXPECT_EQ(a.tmin, b.tmin);
+            EXPECT_EQ(a.tmax, b.tmax);
+        }
+    }
+}
+
+// Random DAGs under random cameras (pinhole and ortho), random tile sides, split shapes and
+// thread counts: never a contradiction with the per-ray solver; Unknown on one side only where
+// the other decides is allowed, and must stay rare.
+RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
+    const expr::Tape tape(*testing::gen_dag(16));
+    CoherentOptions o;
+    o.render.width = *rc::gen::inRange(1u, 14u);
+    o.render.height = *rc::gen::inRange(1u, 14u);
+    const double lo = *rc::gen::element(-2.0, -1.0, -0.3);
+    const double hi = *rc::gen::element(2.0, 1.0, 0.7);
+    o.render.bounds = {{{lo, hi}, {lo, hi}, {lo, hi}}};
+    o.projection = *rc::gen::element(Projection::Pinhole, Projection::Ortho);
+    const double az = *rc::gen::inRange(0, 628) / 100.0;
+    const double el = *rc::gen::inRange(-120, 120) / 100.0;
+    const double dist = *rc::gen::element(2.0, 4.0, 8.0);
+    o.render.camera.eye = {dist * std::cos(el) * std::cos(az), dist * std::cos(el) * std::sin(az),
+                           dist * std::sin(el)};
+    o.render.camera.target = {0, 0, 0};
+    o.render.camera.fov_degrees = *rc::gen::element(20.0, 35.0, 60.0);
+    o.root_tile = *rc::gen::element(1u, 4u, 16u);
+    o.aspect = *rc::gen::element(0.25, 0.5, 2.0);
+    o.mean_value_rays = *rc::gen::element(0u, 4u, 16u, 1000u);
+    o.render.threads = *rc::gen::element(1u, 2u);
+    o.certified.budget = 2000;  // the image options otherwise
+    const Agreement a = against_per_ray(tape, o);
+    RC_ASSERT(a.wrong == 0u);
+    RC_TAG(a.undecided == 0 ? "all agree" : "some undecided");
+}
+
+}  // namespace
+}  // namespace certray::tracers

@@ -1,0 +1,514 @@
+// tracers/coherent.cpp — the coherent walk: per root tile, a front-to-back descent over screen
+// rectangles × parameter segments (see coherent.h; docs/theory/coherent.md).
+//
+// Invariant of node(r, a, b): every open ray of r (its pixel not yet answered) is proven free of
+// zeros on [tmin, max(tmin, a)), and the list it is given equals f at every point of every open
+// ray of r for t in [a, b]. node() leaves every open ray of r proven free of zeros up to b (or
+// answered).
+#include "tracers/coherent.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "expr/derived.h"
+#include "expr/eval.h"
+#include "expr/prune.h"
+#include "interval/dual.h"
+#include "interval/interval.h"
+
+namespace certray::tracers {
+namespace {
+
+using Ssa = std::vector<expr::Instr>;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Deepest node: past it a node is a leaf whatever its size (the solver bisects further).
+constexpr unsigned kMaxDepth = 80;
+
+/// The pixels [i0, i0 + w) × [j0, j0 + h) of the image.
+struct Rect {
+    unsigned i0, j0, w, h;
+};
+
+/// A pixel of the current root tile: its ray and whether it is still open (meets the bounds and
+/// has no answer yet).
+struct Px {
+    Ray ray;
+    bool open = false;
+};
+
+/// The buffers of one depth of the descent: the slot enclosures of the node's box evaluation,
+/// the list pruned to that box, and the register tape a leaf builds from it.
+struct Level {
+    std::vector<UpInterval> values;
+    Ssa list;
+    expr::Tape tape;
+};
+
+bool splittable(double a, double b) {
+    const double m = 0.5 * a + 0.5 * b;
+    return a < m && m < b;
+}
+
+bool has_choices(const Ssa& list) {
+    return std::any_of(list.begin(), list.end(), [](const expr::Instr& in) {
+        return in.op == expr::Op::Min || in.op == expr::Op::Max;
+    });
+}
+
+/// A register tape from a list written by prune_ssa (slots in any order): renumbered so that slot
+/// i is instruction i, as Tape::from_ssa wants.
+expr::Tape tape_of(const Ssa& list) {
+    Ssa ssa = list;
+    std::vector<std::uint32_t> index(ssa.size());
+    for (std::size_t i = 0; i < ssa.size(); ++i) {
+        expr::Instr& in = ssa[i];
+        const int k = expr::arity(in.op);
+        if (k >= 1) in.a = index[in.a];
+        if (k == 2) in.b = index[in.b];
+        index[in.out] = static_cast<std::uint32_t>(i);
+        in.out = static_cast<std::uint32_t>(i);
+    }
+    return expr::Tape::from_ssa(std::move(ssa));
+}
+
+/// One thread's walk: root tiles in, answers written to the image's pixels.
+class Walker {
+  public:
+    Walker(const expr::Tape& tape, const CoherentOptions& options, const PixelRays& rays,
+           PixelAnswers& answers, std::vector<RayResult>* results)
+        : tape_(tape),
+          options_(options),
+          rays_(rays),
+          ans_(answers),
+          results_(results),
+          choices_(has_choices(tape.ssa())),
+          t_splits_(rays.projection() == Projection::Pinhole || tape.uses_var(2)),
+          levels_(kMaxDepth) {}
+
+    /// Answers every pixel of the root tile r.
+    void tile(const Rect& r);
+
+    CoherentStats stats;
+    EvalCounts evals;
+
+  private:
+    Px& px(unsigned i, unsigned j) { return px_[(j - root_.j0) * root_.w + (i - root_.i0)]; }
+    /// The hull of the open rays of a rectangle, and the count of answered rays when it was taken.
+    struct Hull {
+        double olo[3] = {kInf, kInf, kInf}, ohi[3] = {-kInf, -kInf, -kInf};
+        double dlo[3] = {kInf, kInf, kInf}, dhi[3] = {-kInf, -kInf, -kInf};
+        double tlo = kInf, thi = -kInf;
+        unsigned count = 0;
+        std::uint64_t answered = 0;
+    };
+    void node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
+              unsigned depth, const Hull* given = nullptr);
+    void leaf(const Rect& r, double a, double b, const expr::Tape& tape);
+    /// The mean value form over the box: F(c) + Σ G_i·(X_i − c_i), with G the gradient
+    /// enclosure over the box X and c its centre; true when it excludes 0.
+    bool excluded_by_mean_value(const Ssa& list, double a, double b, const double* olo,
+                                const double* ohi, const double* dlo, const double* dhi);
+    /// Writes the answer `res` of pixel (i, j) on its ray.
+    void answer(unsigned i, unsigned j, const Ray& ray, const RayResult& res);
+
+    const expr::Tape& tape_;
+    const CoherentOptions& options_;
+    const PixelRays& rays_;
+    PixelAnswers& ans_;
+    std::vector<RayResult>* results_;  ///< every answer, when the caller asks
+    const bool choices_;               ///< the tape has min/max: pruning can shorten it
+    /// Splitting in t can tighten a box: false for heightmap rays over a tape without z, whose
+    /// boxes do not change along t.
+    const bool t_splits_;
+    std::vector<Level> levels_;
+    expr::PruneWorkspace prune_ws_;
+    Rect root_{0, 0, 0, 0};
+    std::vector<Px> px_;
+    std::uint64_t answered_ = 0;  ///< rays answered so far (hulls taken before are stale)
+    std::vector<Dual<UpInterval, 3>> duals_;
+    std::vector<Dual<UpInterval, 1>> duals1_;
+    std::vector<UpInterval> centre_;
+};
+
+bool Walker::excluded_by_mean_value(const Ssa& list, double a, double b, const double* olo,
+                                    const double* ohi, const double* dlo, const double* dhi) {
+    using D = Dual<UpInterval, 3>;
+    if (duals_.size() < list.size()) duals_.resize(list.size());
+    if (centre_.size() < list.size()) centre_.resize(list.size());
+    stats.box_evals += 2;
+    stats.box_instructions += 2 * list.size();
+    ++evals.gradient;
+    ++evals.interval;
+    const UpInterval t(a, b);
+    const bool one_ray = std::equal(olo, olo + 3, ohi) && std::equal(dlo, dlo + 3, dhi);
+    if (one_ray) {
+        // One ray: the mean value form of g(t) = f(o + t·d) in t, g(tc) + G′(T)·(T − tc), with
+        // G′ ⊇ ∇F(X)·d from one walk of Dual<UpInterval, 1> seeded with d (tighter than the form
+        // over the box X, which ignores that the points lie on one line, and half the work).
+        using D1 = Dual<UpInterval, 1>;
+        if (duals1_.size() < list.size()) duals1_.resize(list.size());
+        std::array<D1, 3> q;
+        std::array<UpInterval, 3> c;
+        const double tc = midpoint(t);
+        for (int k = 0; k < 3; ++k) {
+            const UpInterval o(olo[k]), d(dlo[k]);
+            q[k] = D1(o + t * d, {d});
+            c[k] = o + UpInterval(tc) * d;  // holds the real point o + tc·d
+        }
+        expr::detail::run<D1>(list, q, duals1_.data());
+        const D1& g = duals1_[list.back().out];
+        if (g.a.is_empty() || !g.a.defined || g.v[0].is_empty() || !std::isfinite(g.v[0].lower()) ||
+            !std::isfinite(g.v[0].upper())) {
+            return false;
+        }
+        expr::detail::run<UpInterval>(list, c, centre_.data());
+        UpInterval m = centre_[list.back().out];
+        if (m.is_empty() || !m.defined) return false;
+        m = m + g.v[0] * (t - UpInterval(tc));
+        return !possibly_zero(m);
+    }
+    std::array<D, 3> p;
+    std::array<UpInterval, 3> c;
+    for (int k = 0; k < 3; ++k) {
+        const UpInterval x = UpInterval(olo[k], ohi[k]) + t * UpInterval(dlo[k], dhi[k]);
+        p[k] = D(x);
+        p[k].v[k] = UpInterval(1.0);
+        c[k] = UpInterval(midpoint(x));
+    }
+    expr::detail::run<D>(list, p, duals_.data());
+    const D& g = duals_[list.back().out];
+    // Lebourg's mean value theorem (Clarke gradients cover the kinks of abs, min, max) needs f
+    // defined and continuous on the whole box and a bounded gradient enclosure.
+    if (g.a.is_empty() || !g.a.defined) return false;
+    for (int k = 0; k < 3; ++k) {
+        if (g.v[k].is_empty() || !std::isfinite(g.v[k].lower()) || !std::isfinite(g.v[k].upper())) {
+            return false;
+        }
+    }
+    expr::detail::run<UpInterval>(list, c, centre_.data());
+    UpInterval m = centre_[list.back().out];
+    if (m.is_empty() || !m.defined) return false;
+    for (int k = 0; k < 3; ++k) m = m + g.v[k] * (p[k].a - c[k]);
+    return !possibly_zero(m);
+}
+
+void Walker::tile(const Rect& r) {
+    root_ = r;
+    px_.assign(std::size_t{r.w} * r.h, Px{});
+    double a = kInf, b = -kInf;
+    for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
+        for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
+            Px& p = px(i, j);
+            p.open = rays_.ray(i, j, p.ray);  // a ray that misses the bounds: Miss, no evaluation
+            if (!p.open) continue;
+            a = std::min(a, p.ray.tmin);
+            b = std::max(b, p.ray.tmax);
+        }
+    }
+    if (a <= b) {
+        // One RoundingScope for the whole walk (a mode switch costs more than a box evaluation of
+        // a short tape): node() and the mean value form compute UpIntervals in it; their plain
+        // double arithmetic only picks split points, whose rounding does not matter; the solver
+        // and the normals open a NearestScope of their own.
+        RoundingScope up;
+        node(r, a, b, tape_.ssa(), &tape_, 0);
+    }
+    // Open rays left are proven free of zeros on their whole segment: Misses (the default).
+}
+
+void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
+                  unsigned depth, const Hull* given) {
+    // The open rays of r that meet [a, b], and the hull of their origins and directions. A
+    // parent's hull over the same rectangle serves while no ray has been answered since it was
+    // taken: its rays are a superset, so its box still holds them all.
+    Hull hull;
+    if (given != nullptr && given->answered == answered_) {
+        hull = *given;
+    } else {
+        hull.answered = answered_;
+        for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
+            for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
+                const Px& p = px(i, j);
+                if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
+                ++hull.count;
+                hull.tlo = std::min(hull.tlo, p.ray.tmin);
+                hull.thi = std::max(hull.thi, p.ray.tmax);
+                for (int c = 0; c < 3; ++c) {
+                    hull.olo[c] = std::min(hull.olo[c], p.ray.o[c]);
+                    hull.ohi[c] = std::max(hull.ohi[c], p.ray.o[c]);
+                    hull.dlo[c] = std::min(hull.dlo[c], p.ray.d[c]);
+                    hull.dhi[c] = std::max(hull.dhi[c], p.ray.d[c]);
+                }
+            }
+        }
+    }
+    const unsigned count = hull.count;
+    const double* olo = hull.olo;
+    const double* ohi = hull.ohi;
+    const double* dlo = hull.dlo;
+    const double* dhi = hull.dhi;
+    const double tlo = hull.tlo, thi = hull.thi;
+    if (count == 0) return;
+    // Rays start no earlier than tlo and end by thi: nothing of them lies outside [tlo, thi].
+    a = std::max(a, tlo);
+    b = std::min(b, thi);
+
+    // The box [o] + [a, b]·[d] holds o + t·d for every such ray and t in [a, b] (rounded outward).
+    Level& level = levels_[depth];
+    if (level.values.size() < list.size()) level.values.resize(list.size());
+    UpInterval f;
+    {
+        const UpInterval t(a, b);
+        std::array<UpInterval, 3> box;
+        for (int c = 0; c < 3; ++c) {
+            box[c] = UpInterval(olo[c], ohi[c]) + t * UpInterval(dlo[c], dhi[c]);
+        }
+        expr::detail::run<UpInterval>(list, box, level.values.data());
+        f = level.values[list.back().out];
+    }
+    ++stats.box_evals;
+    stats.box_instructions += list.size();
+    ++evals.interval;
+    if (!possibly_zero(f)) {  // 0 ∉ F (or f undefined on the whole box): no ray meets f = 0 here
+        ++stats.boxes_excluded;
+        return;
+    }
+    if (count <= options_.mean_value_rays &&
+        excluded_by_mean_value(list, a, b, olo, ohi, dlo, dhi)) {
+        ++stats.boxes_excluded;
+        return;
+    }
+
+    const Ssa* sub = &list;
+    const expr::Tape* sub_tape = tape;
+    if (choices_ && expr::prune_ssa(list, level.values.data(), prune_ws_, level.list)) {
+        sub = &level.list;
+        sub_tape = nullptr;
+        ++stats.prunes;
+    }
+
+    if (count > 1 && depth + 1 < kMaxDepth) {
+        // How far apart the rays are at the far end, plus a pixel: the box's lateral extent.
+        double spread_o = 0, spread_d = 0;
+        for (int c = 0; c < 3; ++c) {
+            spread_o = std::max(spread_o, ohi[c] - olo[c]);
+            spread_d = std::max(spread_d, dhi[c] - dlo[c]);
+        }
+        const bool pinhole = rays_.projection() == Projection::Pinhole;
+        const double lateral =
+            spread_o + std::fabs(b) * spread_d + rays_.pixel_pitch() * (pinhole ? std::fabs(b) : 1);
+        if (t_splits_ && b - a > options_.aspect * lateral && splittable(a, b)) {
+            // Near segment first: the far one only sees the rays the near one left open.
+            const double m = 0.5 * a + 0.5 * b;
+            node(r, a, m, *sub, sub_tape, depth + 1, &hull);
+            node(r, m, b, *sub, sub_tape, depth + 1, &hull);
+            return;
+        }
+        if (r.w > 1 || r.h > 1) {
+            const unsigned w1 = (r.w + 1) / 2, h1 = (r.h + 1) / 2;
+            node({r.i0, r.j0, w1, h1}, a, b, *sub, sub_tape, depth + 1);
+            if (r.w > w1) node({r.i0 + w1, r.j0, r.w - w1, h1}, a, b, *sub, sub_tape, depth + 1);
+            if (r.h > h1) node({r.i0, r.j0 + h1, w1, r.h - h1}, a, b, *sub, sub_tape, depth + 1);
+            if (r.w > w1 && r.h > h1) {
+                node({r.i0 + w1, r.j0 + h1, r.w - w1, r.h - h1}, a, b, *sub, sub_tape, depth + 1);
+            }
+            return;
+        }
+    }
+    if (sub_tape == nullptr) {
+        level.tape = tape_of(*sub);
+        sub_tape = &level.tape;
+    }
+    leaf(r, a, b, *sub_tape);
+}
+
+void Walker::leaf(const Rect& r, double a, double b, const expr::Tape& tape) {
+    for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
+        for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
+            Px& p = px(i, j);
+            if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
+            // [tmin, a) is proven free of zeros, and `tape` equals f on the ray for t in [a, b].
+            Ray s = p.ray;
+            s.tmin = std::max(a, p.ray.tmin);
+            s.tmax = std::min(b, p.ray.tmax);
+            RayResult res = solvers::certified_first_root(tape, s, options_.certified);
+            ++stats.leaf_solves;
+            if (res.status == Status::Miss) {  // free of zeros up to b: the walk goes on
+                evals += res.evals;
+                const std::size_t k = std::size_t{j} * ans_.width + i;
+                ans_.evals[k] += res.evals.total();
+                if (results_ != nullptr) (*results_)[k].evals += res.evals;
+                continue;
+            }
+            if (res.status == Status::Unknown && s.tmax < p.ray.tmax) {
+                // Undecided in this segment: the per-ray solver on the rest of the ray (full tape)
+                // may still prove a zero further along, as it would on the whole ray.
+                ++stats.fallbacks;
+                Ray rest = p.ray;
+                rest.tmin = s.tmin;
+                const EvalCounts spent = res.evals;
+                res = solvers::certified_first_root(tape_, rest, options_.certified);
+                res.evals += spent;
+            }
+            evals += res.evals;
+            answer(i, j, p.ray, res);
+            p.open = false;
+            ++answered_;
+        }
+    }
+}
+
+void Walker::answer(unsigned i, unsigned j, const Ray& ray, const RayResult& res) {
+    const std::size_t k = std::size_t{j} * ans_.width + i;
+    ans_.status[k] = res.status;
+    ans_.evals[k] += res.evals.total();
+    ans_.t[k] = res.t;
+    if (results_ != nullptr) {
+        RayResult& out = (*results_)[k];
+        const EvalCounts before = out.evals;  // of the segments this ray was proven free on
+        out = res;
+        out.evals += before;
+    }
+    if (res.status != Status::Hit) return;
+    NearestScope env;  // as render_3d computes the normal
+    const Vec3 q{ray.o[0] + res.t * ray.d[0], ray.o[1] + res.t * ray.d[1],
+                 ray.o[2] + res.t * ray.d[2]};
+    const Dual<double, 3> g = expr::gradient(tape_, q);
+    Vec3 n = normalize({g.v[0], g.v[1], g.v[2]});
+    if (dot(n, ray.d) > 0) n = {-n[0], -n[1], -n[2]};
+    ans_.normal[k] = {static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2])};
+}
+
+}  // namespace
+
+PixelRays::PixelRays(const CoherentOptions& options)
+    : projection_(options.projection), bounds_(options.render.bounds) {
+    const RenderOptions& r = options.render;
+    if (r.width == 0 || r.height == 0) throw std::invalid_argument("render: empty image size");
+    NearestScope env;
+    if (projection_ == Projection::Pinhole) {
+        frame_.emplace(r.camera, r.width, r.height);
+        pitch_ = std::tan(r.camera.fov_degrees * (M_PI / 360.0)) / (0.5 * r.height);
+        return;
+    }
+    for (int c = 0; c < 3; ++c) {
+        if (!(std::isfinite(bounds_[c][0]) && std::isfinite(bounds_[c][1]) &&
+              bounds_[c][0] < bounds_[c][1])) {
+            throw std::invalid_argument("ortho camera: the bounds must be finite with lo < hi");
+        }
+    }
+    dx_ = (bounds_[0][1] - bounds_[0][0]) / r.width;
+    dy_ = (bounds_[1][1] - bounds_[1][0]) / r.height;
+    // One ulp up covers the rounding of the difference: o + tmax·d reaches z0.
+    tmax_ = std::nextafter(bounds_[2][1] - bounds_[2][0], kInf);
+    pitch_ = std::max(dx_, dy_);
+}
+
+bool PixelRays::ray(unsigned i, unsigned j, Ray& ray) const {
+    NearestScope env;
+    if (projection_ == Projection::Pinhole) {
+        ray = frame_->ray(i + 0.5, j + 0.5);
+        return clip_ray(ray, bounds_);
+    }
+    ray.o = {bounds_[0][0] + (i + 0.5) * dx_, bounds_[1][1] - (j + 0.5) * dy_, bounds_[2][1]};
+    ray.d = {0, 0, -1};
+    ray.tmin = 0;
+    ray.tmax = tmax_;
+    return true;
+}
+
+RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& options,
+                                CoherentStats* stats, std::vector<RayResult>* results) {
+    const PixelRays rays(options);
+    if (options.root_tile == 0) throw std::invalid_argument("render: root tile side must be >= 1");
+    const auto start = std::chrono::steady_clock::now();
+    RenderResult result;
+    PixelAnswers& ans = result.answers;
+    ans.width = options.render.width;
+    ans.height = options.render.height;
+    const std::size_t pixels = std::size_t{ans.width} * ans.height;
+    ans.status.assign(pixels, Status::Miss);
+    ans.t.assign(pixels, std::numeric_limits<double>::quiet_NaN());
+    ans.evals.assign(pixels, 0);
+    ans.normal.assign(pixels, {0.f, 0.f, 0.f});
+    if (results != nullptr) {
+        RayResult miss;
+        miss.status = Status::Miss;
+        results->assign(pixels, miss);
+    }
+
+    const unsigned side = options.root_tile;
+    const unsigned tiles_x = (ans.width + side - 1) / side;
+    const unsigned tiles_y = (ans.height + side - 1) / side;
+    const std::size_t tiles = std::size_t{tiles_x} * tiles_y;
+    const unsigned workers = static_cast<unsigned>(std::clamp<std::size_t>(
+        options.render.threads > 0 ? options.render.threads : std::thread::hardware_concurrency(),
+        1, std::max<std::size_t>(tiles, 1)));
+    std::atomic<std::size_t> next{0};
+    std::mutex mutex;
+    std::exception_ptr error;
+    std::vector<CoherentStats> walk_stats(workers);
+    std::vector<EvalCounts> sums(workers);
+
+    auto work = [&](unsigned w) {
+        try {
+            NearestScope env;  // the library's environment, whatever the caller's
+            Walker walker(tape, options, rays, ans, results);
+            for (;;) {
+                const std::size_t t = next.fetch_add(1, std::memory_order_relaxed);
+                if (t >= tiles) break;
+                const unsigned i0 = static_cast<unsigned>(t % tiles_x) * side;
+                const unsigned j0 = static_cast<unsigned>(t / tiles_x) * side;
+                walker.tile(
+                    {i0, j0, std::min(side, ans.width - i0), std::min(side, ans.height - j0)});
+            }
+            walk_stats[w] = walker.stats;
+            sums[w] = walker.evals;
+        } catch (...) {
+            std::lock_guard lock(mutex);
+            if (!error) error = std::current_exception();
+            next.store(tiles);
+        }
+    };
+    std::vector<std::thread> pool;
+    pool.reserve(workers - 1);
+    for (unsigned w = 1; w < workers; ++w) pool.emplace_back(work, w);
+    work(0);
+    for (std::thread& th : pool) th.join();
+    if (error) std::rethrow_exception(error);
+
+    RenderStats& st = result.stats;
+    CoherentStats total;
+    total.tape_length = tape.size();
+    for (unsigned w = 0; w < workers; ++w) {
+        st.evals += sums[w];
+        const CoherentStats& s = walk_stats[w];
+        total.box_evals += s.box_evals;
+        total.box_instructions += s.box_instructions;
+        total.boxes_excluded += s.boxes_excluded;
+        total.leaf_solves += s.leaf_solves;
+        total.fallbacks += s.fallbacks;
+        total.prunes += s.prunes;
+    }
+    for (std::size_t k = 0; k < pixels; ++k) {
+        st.hit += ans.status[k] == Status::Hit;
+        st.miss += ans.status[k] == Status::Miss;
+        st.unknown += ans.status[k] == Status::Unknown;
+        st.max_pixel_evals = std::max(st.max_pixel_evals, ans.evals[k]);
+    }
+    if (stats != nullptr) *stats = total;
+    result.image = colorize(ans, options.render.aov, options.render.light);
+    st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+}  // namespace certray::tracers

@@ -1,0 +1,118 @@
+// tracers/coherent.h — certified 3D images by rays that share interval work: screen tiles ×
+// parameter segments evaluated as interval boxes, front to back, with the tape pruned per box; the
+// rays that are left run the certified solver from where their tile proved them free of zeros.
+//
+// Contract: every pixel's answer has the meaning of solvers::certified_first_root on the very ray
+// pixel_ray() gives (solvers/ray.h): Hit [t_lo, t_hi] — a zero proven in [t_lo, t_hi] and none in
+// [tmin, t_lo); Miss — none on [tmin, tmax]; otherwise Unknown. A box that encloses every point of
+// every ray of a tile over a parameter range [a, b] (outward rounding), over which the interval
+// enclosure of f excludes 0, proves every one of those rays free of zeros on [a, b]; segments are
+// processed front to back, so when a ray reaches a leaf at parameter a, [tmin, a) is proven free
+// and the certified solver's answer on [a, b] (with a tape pruned to the leaf's box, which equals f
+// there) is an answer for the whole ray. A leaf answer of Unknown is redone by the per-ray solver
+// on [a, tmax] with the full tape, so that a proof further along the ray is still found. Reference:
+// Knoll et al. 2009, Keeter 2020, Duff 1992; docs/theory/coherent.md.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "expr/tape.h"
+#include "solvers/certified.h"
+#include "solvers/ray.h"
+#include "tracers/camera.h"
+#include "tracers/render.h"
+
+namespace certray::tracers {
+
+/// How pixels become rays.
+enum class Projection : std::uint8_t {
+    /// The pinhole camera of RenderOptions::camera: pixel (i, j) is CameraFrame::ray(i + 0.5,
+    /// j + 0.5) clipped to the bounds (clip_ray), exactly as render_3d traces it.
+    Pinhole,
+    /// A heightmap: one ray per pixel straight down (d = (0, 0, −1)) from z = z1 to z = z0 of the
+    /// bounds, pixel centres spread over the bounds' x–y rectangle (x0 on the left, y1 on the top
+    /// row): o = (x0 + (i + 0.5)·(x1 − x0)/width, y1 − (j + 0.5)·(y1 − y0)/height, z1),
+    /// t ∈ [0, z1 − z0] (the upper end rounded up). The setting of libfive's and Fidget's 3D
+    /// timings.
+    Ortho,
+};
+
+/// The solver options for images: tighten off, hit_width 1e-6.
+inline solvers::CertifiedOptions image_solver_options() {
+    solvers::CertifiedOptions o;
+    o.tighten = false;
+    o.hit_width = 1e-6;
+    return o;
+}
+
+/// Everything a coherent image needs besides the scene.
+struct CoherentOptions {
+    /// Size, pinhole camera, bounds, light, AOV, threads (0: one per hardware thread). `progress`
+    /// is not read (no progress bar).
+    RenderOptions render;
+    Projection projection = Projection::Pinhole;
+    /// The per-ray solver's options, for every leaf ray (budget per solve). By default those an
+    /// image needs: hits narrowed to 1e-6 relative width, not to 4 ulps by the exact oracle
+    /// (docs/theory/coherent.md, "Options for images"); the answers keep their meaning. Set
+    /// `certified = {}` for the per-ray defaults (slower: docs/benchmarks.md).
+    solvers::CertifiedOptions certified = image_solver_options();
+    /// Pixels per side of a root tile, the unit of work of a thread (≥ 1).
+    unsigned root_tile = 16;
+    /// A box is split in t while its depth (t extent) exceeds `aspect` times its lateral extent
+    /// (the spread of its rays at the far end, plus one pixel), otherwise across the screen.
+    double aspect = 0.5;
+    /// Where the interval enclosure of f over a box of at most this many rays holds 0, try the
+    /// mean value form (f at the box's centre plus the gradient enclosure times the box's radius;
+    /// one gradient and one point evaluation), which is second-order tight on small boxes (and
+    /// seldom pays on larger ones). 0: never.
+    unsigned mean_value_rays = 16;
+};
+
+/// What the coherent walk did, summed over the image.
+struct CoherentStats {
+    std::uint64_t box_evals = 0;         ///< interval evaluations over tile × segment boxes
+    std::uint64_t box_instructions = 0;  ///< instructions those evaluations ran (pruned lengths)
+    std::uint64_t boxes_excluded = 0;    ///< boxes proven free of zeros
+    std::uint64_t leaf_solves = 0;       ///< certified solves of one ray on one segment
+    std::uint64_t fallbacks = 0;         ///< leaf Unknowns redone on the rest of the ray
+    std::uint64_t prunes = 0;            ///< boxes whose tape was shortened
+    std::uint64_t tape_length = 0;       ///< instructions of the full tape
+};
+
+/// The rays of an image, pixel by pixel: what render_3d_coherent answers, and what a per-ray
+/// method given the same options would trace.
+class PixelRays {
+  public:
+    /// Throws std::invalid_argument for an empty size, a bad pinhole camera (CameraFrame), or
+    /// (Ortho) bounds that are not finite with x0 < x1, y0 < y1, z0 < z1.
+    explicit PixelRays(const CoherentOptions& options);
+    /// The ray of pixel (i, j) (j = 0 the top row), clipped to the bounds; false when it misses
+    /// them (the pixel is then a Miss with no evaluation). Runs in a NearestScope.
+    bool ray(unsigned i, unsigned j, Ray& ray) const;
+    /// The widest angle (pinhole) or distance (ortho) between neighbouring pixel rays.
+    double pixel_pitch() const { return pitch_; }
+    Projection projection() const { return projection_; }
+
+  private:
+    Projection projection_;
+    std::optional<CameraFrame> frame_;  ///< Pinhole only
+    Box3 bounds_;
+    double dx_ = 0, dy_ = 0, tmax_ = 0, pitch_ = 0;
+};
+
+/// Renders `tape` by coherent certified ray casting (see the file contract): the same RenderResult
+/// as render_3d with the `certified` method (answers, AOV image, statistics), where
+/// answers.evals[k] counts the whole-tape evaluations of pixel k's own solves (leaf and fallback)
+/// and stats.evals adds every box evaluation (as interval evaluations, whatever their pruned
+/// length). When `stats` is given it receives the walk's counters; when `results` is given, every
+/// pixel's whole answer (row-major, top row first; a ray that misses the bounds is a Miss with no
+/// evaluation). Threads: a parallel loop over root tiles, the calling thread taking part; sound in
+/// any caller's floating-point environment. Throws std::invalid_argument as PixelRays does, or
+/// for root_tile = 0.
+RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& options,
+                                CoherentStats* stats = nullptr,
+                                std::vector<RayResult>* results = nullptr);
+
+}  // namespace certray::tracers
