@@ -31,7 +31,8 @@ void check_ray(const Ray& ray, std::size_t index) {
 namespace {
 
 tracers::RayFunction prepare(const Scene& scene, const QueryOptions& options) {
-    const tracers::MethodOptions mo = tracers::resolve_knobs(options.method, options.knobs);
+    tracers::MethodOptions mo = tracers::resolve_knobs(options.method, options.knobs);
+    mo.surface = options.surface;
     // The scene owns the tape that the method reads (Scene's shared state outlives the call).
     return tracers::make_method(options.method, scene.tape(), mo);
 }

@@ -59,6 +59,7 @@ tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {
                                          [](const auto& kv) { return kv.first == "tighten"; });
     if (reads_tighten && !set_tighten) knobs.values.emplace_back("tighten", 0);
     tracers::MethodOptions mo = tracers::resolve_knobs(s.method, knobs);
+    mo.surface = s.surface.value_or(scene.default_surface());
     tracers::RenderOptions ro;
     ro.width = s.width;
     ro.height = s.height;
@@ -73,6 +74,24 @@ tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {
     mo.bounds = std::array<Interval, 3>{Interval(ro.bounds[0][0], ro.bounds[0][1]),
                                         Interval(ro.bounds[1][0], ro.bounds[1][1]),
                                         Interval(ro.bounds[2][0], ro.bounds[2][1])};
+    const std::string_view name = info.name;  // an old name resolved
+    if (name == "certified" && mo.surface == tracers::Surface::Zero && (s.coherent || s.ortho)) {
+        NearestScope env;
+        tracers::CoherentOptions co;
+        co.render = ro;
+        co.projection = s.ortho ? tracers::Projection::Ortho : tracers::Projection::Pinhole;
+        co.certified.budget = mo.budget;
+        if (mo.tighten != 0) {  // asked for: 4-ulp hits, as the per-ray method gives
+            co.certified.tighten = true;
+            co.certified.hit_width = 0;
+        }
+        return tracers::render_3d_coherent(scene.tape(), co);
+    }
+    if (s.ortho) {
+        throw std::invalid_argument(
+            "the orthographic camera is drawn by the coherent certified renderer: use the method "
+            "certified on the zero surface");
+    }
     const tracers::RayFunction fn = tracers::make_method(s.method, scene.tape(), mo);
     return tracers::render_3d(scene.tape(), fn, ro);
 }

@@ -19,9 +19,11 @@ struct Scene::State {
     expr::Graph graph;
     expr::Tape tape;
     std::optional<std::array<std::array<double, 2>, 3>> bounds;
+    tracers::Surface surface = tracers::Surface::Zero;
 
-    State(expr::Graph g, std::optional<std::array<std::array<double, 2>, 3>> b)
-        : graph(std::move(g)), tape(graph), bounds(b) {}
+    State(expr::Graph g, std::optional<std::array<std::array<double, 2>, 3>> b,
+          tracers::Surface s = tracers::Surface::Zero)
+        : graph(std::move(g)), tape(graph), bounds(b), surface(s) {}
 };
 
 namespace {
@@ -63,12 +65,17 @@ Scene Scene::load(const std::string& path) {
                   {csg.bounds_min[1], csg.bounds_max[1]},
                   {csg.bounds_min[2], csg.bounds_max[2]}}};
         }
-        return Scene(std::make_shared<const State>(std::move(csg.graph), b));
+        return Scene(
+            std::make_shared<const State>(std::move(csg.graph), b, tracers::Surface::Solid));
     }
     expr::Graph graph = expr::load_graph_file(path);
     std::optional<std::array<std::array<double, 2>, 3>> b;
-    if (std::string_view(path).ends_with(".vm")) b = vm_bounds(path);
-    return Scene(std::make_shared<const State>(std::move(graph), b));
+    tracers::Surface surface = tracers::Surface::Zero;
+    if (std::string_view(path).ends_with(".vm")) {
+        b = vm_bounds(path);
+        surface = tracers::Surface::Solid;
+    }
+    return Scene(std::make_shared<const State>(std::move(graph), b, surface));
 }
 
 Scene Scene::parse(std::string_view text, std::string_view name) {
@@ -85,6 +92,7 @@ bool Scene::is_2d() const noexcept { return !state_->tape.uses_var(2); }
 const std::optional<std::array<std::array<double, 2>, 3>>& Scene::bounds() const noexcept {
     return state_->bounds;
 }
+tracers::Surface Scene::default_surface() const noexcept { return state_->surface; }
 std::string Scene::to_expr() const { return expr::print_expr(state_->graph); }
 
 }  // namespace certray

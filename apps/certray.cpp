@@ -88,6 +88,13 @@ int main(int argc, char** argv) {
     cmd_query->add_option("--threads", query.threads, "Worker threads (0: one per hardware thread)")
         ->capture_default_str();
     cmd_query->add_flag("-q,--quiet", query.quiet, "No progress on stderr");
+    cmd_query
+        ->add_option("--surface", query.surface,
+                     "zero: the first t with f = 0; solid: the first entry into f < 0 (regions "
+                     "where f = 0 are not interior). Certified methods answer either; the "
+                     "approximate ones approximate zero")
+        ->check(CLI::IsMember({"zero", "solid"}))
+        ->capture_default_str();
     // The methods' knobs, from the registry (tracers/methods.h): each with its default, and an
     // error when the chosen method does not read it.
     std::map<std::string, double> query_real;
@@ -159,6 +166,21 @@ int main(int argc, char** argv) {
                            "or FILE.pfm: depth = hit t (NaN elsewhere), steps = evaluations, "
                            "status = 0 hit, 1 miss, 2 unknown, normal = 3 channels (3D only; "
                            "not with shade)");
+    cmd_render
+        ->add_option("--surface", render.surface,
+                     "zero: the first f = 0; solid: the first entry into f < 0 (default: solid for "
+                     ".vm and CSG .json scenes, as their authors' renderers draw them; zero for "
+                     ".expr and .txt)")
+        ->check(CLI::IsMember({"zero", "solid"}));
+    cmd_render
+        ->add_option("--camera", render.camera,
+                     "pinhole (default; auto-framed, or --eye/--target/--up/--fov) or ortho: an "
+                     "orthographic heightmap, one ray per pixel along -z over the bounds (the "
+                     "setting of libfive's and Fidget's 3D timings; certified, zero surface)")
+        ->check(CLI::IsMember({"pinhole", "ortho"}));
+    cmd_render->add_flag("--per-ray", render.per_ray,
+                         "Certified images by one independent ray per pixel instead of the "
+                         "coherent renderer (same answers; for comparison)");
     cmd_render->add_option("--eye", render.eye, "Camera position X Y Z (default: auto-framed)")
         ->expected(3);
     cmd_render->add_option("--target", render.target, "Point the camera looks at, X Y Z")

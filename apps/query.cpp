@@ -96,7 +96,9 @@ nlohmann::json make_stats(const QueryOptions& options, const tracers::MethodOpti
     nlohmann::json j;
     j["method"] = options.method;
     j["certified"] = tracers::method_info(options.method).certified;
-    j["surface"] = "zero";
+    // What the answers mean: the surface asked for, when the method is certified; the approximate
+    // methods approximate the zero surface whatever was asked.
+    j["surface"] = tracers::method_info(options.method).certified ? options.surface : "zero";
     j["scene"] = options.scene;
     j["rays_file"] = options.rays;
     j["rays"] = results.size();
@@ -151,6 +153,7 @@ int run_query(const QueryOptions& options) {
 
     certray::QueryOptions q;
     q.method = options.method;
+    q.surface = tracers::parse_surface(options.surface);
     q.knobs = options.knobs;
     q.threads = options.threads;
     const bool tty = isatty(STDERR_FILENO) != 0;

@@ -14,14 +14,15 @@
 namespace certray::apps {
 
 struct QueryOptions {
-    std::string scene;          ///< the scene file (.expr, .vm, .txt, .json)
-    std::string rays;           ///< RAYS.csv, or "-" for stdin
-    std::string method;         ///< a name of tracers::method_names()
-    std::string out;            ///< HITS.csv to write, or "-" for stdout
-    std::string stats;          ///< STATS.json to write; empty for none
-    unsigned threads = 0;       ///< worker threads; 0 means one per hardware thread
-    bool quiet = false;         ///< no progress on stderr
-    tracers::KnobValues knobs;  ///< the knobs the user set (validated against the registry)
+    std::string scene;             ///< the scene file (.expr, .vm, .txt, .json)
+    std::string rays;              ///< RAYS.csv, or "-" for stdin
+    std::string method;            ///< a name of tracers::method_names()
+    std::string out;               ///< HITS.csv to write, or "-" for stdout
+    std::string stats;             ///< STATS.json to write; empty for none
+    unsigned threads = 0;          ///< worker threads; 0 means one per hardware thread
+    bool quiet = false;            ///< no progress on stderr
+    std::string surface = "zero";  ///< zero or solid
+    tracers::KnobValues knobs;     ///< the knobs the user set (validated against the registry)
 };
 
 /// The names accepted by QueryOptions::method.

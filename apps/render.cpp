@@ -41,6 +41,7 @@ struct SceneSpec {
     std::optional<Vec3> light;
     std::optional<std::string> method;
     std::optional<std::pair<unsigned, unsigned>> size;
+    tracers::Surface surface = tracers::Surface::Zero;  ///< what the scene's authors mean
 };
 
 [[noreturn]] void fail(const std::string& file, const std::string& message) {
@@ -69,6 +70,7 @@ SceneSpec load_json_scene(const std::string& path) {
         const expr::CsgScene csg = expr::import_csg_json_file(path);
         SceneSpec s;
         s.graph = csg.graph;
+        s.surface = tracers::Surface::Solid;
         if (csg.has_bounds) {
             Box3 box;
             for (int a = 0; a < 3; ++a) box[a] = {csg.bounds_min[a], csg.bounds_max[a]};
@@ -92,6 +94,7 @@ SceneSpec load_json_scene(const std::string& path) {
         const Scene loaded = Scene::load(scene.string());
         s.graph = loaded.graph();
         s.bounds = loaded.bounds();  // the file's own (a .vm's [-1, 1]^3), unless "bounds" is set
+        s.surface = loaded.default_surface();
     }
     if (j.contains("bounds")) {
         const auto& b = j["bounds"];
@@ -191,6 +194,8 @@ int render_2d_scene(const RenderCliOptions& o, const expr::Tape& tape, const Sce
     if (o.epsilon) given += ", --epsilon";
     if (o.data) given += ", --data";
     if (!o.eye.empty()) given += ", --eye";
+    if (o.surface) given += ", --surface";
+    if (o.camera) given += ", --camera";
     if (!o.target.empty()) given += ", --target";
     if (!o.up.empty()) given += ", --up";
     if (o.fov) given += ", --fov";
@@ -330,6 +335,7 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
         const Scene loaded = Scene::load(o.scene);
         spec.graph = loaded.graph();
         spec.bounds = loaded.bounds();  // a .vm's [-1, 1]^3 (Fidget's models), else none
+        spec.surface = loaded.default_surface();
     }
     if (!size && spec.size) size = spec.size;
     const expr::Tape tape(spec.graph);
@@ -343,6 +349,20 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
     }
     RenderSettings rs;
     rs.method = method;
+    rs.surface = o.surface ? tracers::parse_surface(*o.surface) : spec.surface;
+    rs.ortho = o.camera && *o.camera == "ortho";
+    rs.coherent = !o.per_ray;
+    if (rs.ortho && (!o.eye.empty() || !o.target.empty() || !o.up.empty() || o.fov)) {
+        std::cerr << "certray render: --camera ortho looks along -z over the bounds: it takes no "
+                     "--eye, --target, --up or --fov\n";
+        return 2;
+    }
+    if (rs.ortho && (tracers::method_info(method).name != "certified" ||
+                     *rs.surface != tracers::Surface::Zero)) {
+        std::cerr << "certray render: --camera ortho is drawn by the coherent certified renderer: "
+                     "use --method certified --surface zero\n";
+        return 2;
+    }
     if (o.budget) rs.knobs.values.emplace_back("budget", static_cast<double>(*o.budget));
     if (o.epsilon) rs.knobs.values.emplace_back("epsilon", *o.epsilon);
     if (o.bounds.size() == 2) {
@@ -419,12 +439,13 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
     }
     const unsigned threads =
         o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
-    out << "3D scene " << rs.width << "x" << rs.height << ", method " << method << ", aov "
-        << aov_name << ": hit " << r.stats.hit << ", miss " << r.stats.miss << ", unknown "
-        << r.stats.unknown << " pixels; evaluations " << r.stats.evals.total() << " (value "
-        << r.stats.evals.value << ", interval " << r.stats.evals.interval << ", gradient "
-        << r.stats.evals.gradient << "; max per pixel " << r.stats.max_pixel_evals << "); "
-        << r.stats.seconds << " s on " << threads << " threads\n";
+    out << "3D scene " << rs.width << "x" << rs.height << ", method " << method << ", surface "
+        << tracers::name(*rs.surface) << ", aov " << aov_name << ": hit " << r.stats.hit
+        << ", miss " << r.stats.miss << ", unknown " << r.stats.unknown << " pixels; evaluations "
+        << r.stats.evals.total() << " (value " << r.stats.evals.value << ", interval "
+        << r.stats.evals.interval << ", gradient " << r.stats.evals.gradient << "; max per pixel "
+        << r.stats.max_pixel_evals << "); " << r.stats.seconds << " s on " << threads
+        << " threads\n";
     return 0;
 }
 

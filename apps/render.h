@@ -38,6 +38,9 @@ struct RenderCliOptions {
     std::optional<std::string> data;      ///< also the AOV as float data: .npy or .pfm (3D)
     std::vector<double> eye, target, up;  ///< the camera, overriding framing and JSON (3D)
     std::optional<double> fov;            ///< vertical field of view in degrees (3D)
+    std::optional<std::string> surface;   ///< zero|solid (3D; default: the scene's)
+    std::optional<std::string> camera;    ///< pinhole (default) | ortho (3D)
+    bool per_ray = false;                 ///< certified by independent rays, not coherently
 };
 
 /// Largest accepted image side.

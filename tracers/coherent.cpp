@@ -23,6 +23,7 @@
 #include "expr/prune.h"
 #include "interval/dual.h"
 #include "interval/interval.h"
+#include "tracers/parallel.h"
 
 namespace certray::tracers {
 namespace {
@@ -454,14 +455,15 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         options.render.threads > 0 ? options.render.threads : std::thread::hardware_concurrency(),
         1, std::max<std::size_t>(tiles, 1)));
     std::atomic<std::size_t> next{0};
-    std::mutex mutex;
-    std::exception_ptr error;
     std::vector<CoherentStats> walk_stats(workers);
     std::vector<EvalCounts> sums(workers);
+    WorkProgress* progress = options.render.progress;
+    if (progress) progress->total.store(tiles, std::memory_order_relaxed);
 
-    auto work = [&](unsigned w) {
+    // One worker per thread (the library's one way of threads, tracers/parallel.h), each with its
+    // walker; root tiles are taken in order.
+    run_workers(workers, [&](unsigned w) {
         try {
-            NearestScope env;  // the library's environment, whatever the caller's
             Walker walker(tape, options, rays, ans, results);
             for (;;) {
                 const std::size_t t = next.fetch_add(1, std::memory_order_relaxed);
@@ -470,21 +472,15 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
                 const unsigned j0 = static_cast<unsigned>(t / tiles_x) * side;
                 walker.tile(
                     {i0, j0, std::min(side, ans.width - i0), std::min(side, ans.height - j0)});
+                if (progress) progress->done.fetch_add(1, std::memory_order_relaxed);
             }
             walk_stats[w] = walker.stats;
             sums[w] = walker.evals;
         } catch (...) {
-            std::lock_guard lock(mutex);
-            if (!error) error = std::current_exception();
-            next.store(tiles);
+            next.store(tiles);  // the others stop at their next tile
+            throw;
         }
-    };
-    std::vector<std::thread> pool;
-    pool.reserve(workers - 1);
-    for (unsigned w = 1; w < workers; ++w) pool.emplace_back(work, w);
-    work(0);
-    for (std::thread& th : pool) th.join();
-    if (error) std::rethrow_exception(error);
+    });
 
     RenderStats& st = result.stats;
     CoherentStats total;

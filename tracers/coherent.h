@@ -49,8 +49,8 @@ inline solvers::CertifiedOptions image_solver_options() {
 
 /// Everything a coherent image needs besides the scene.
 struct CoherentOptions {
-    /// Size, pinhole camera, bounds, light, AOV, threads (0: one per hardware thread). `progress`
-    /// is not read (no progress bar).
+    /// Size, pinhole camera, bounds, light, AOV, threads (0: one per hardware thread), progress
+    /// (advanced root tile by root tile).
     RenderOptions render;
     Projection projection = Projection::Pinhole;
     /// The per-ray solver's options, for every leaf ray (budget per solve). By default those an

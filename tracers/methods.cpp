@@ -14,6 +14,7 @@
 #include "solvers/certified.h"
 #include "solvers/exact.h"
 #include "solvers/hermite.h"
+#include "solvers/solid.h"
 #include "tracers/approx.h"
 #include "tracers/bounding.h"
 #include "tracers/march.h"
@@ -532,11 +533,35 @@ MethodOptions resolve_knobs(std::string_view name, const KnobValues& given) {
     return o;
 }
 
+std::string_view name(Surface s) { return s == Surface::Solid ? "solid" : "zero"; }
+
+Surface parse_surface(std::string_view n) {
+    if (n == "zero") return Surface::Zero;
+    if (n == "solid") return Surface::Solid;
+    throw std::invalid_argument("unknown surface '" + std::string(n) + "'; expected zero or solid");
+}
+
 RayFunction make_method(std::string_view name, const expr::Tape& tape,
                         const MethodOptions& options) {
     const Entry& e = entry(name);
     NearestScope env;  // what make builds (λ, octrees) is computed in the library's environment
-    RayFunction fn = e.make(tape, options);
+    RayFunction fn;
+    if (options.surface == Surface::Solid && e.info.certified) {
+        // The solid surface: the certified solid solver on the whole tape (its MPFR variant for
+        // the reference), for every certified method.
+        solvers::SolidOptions so;
+        so.budget = options.budget;
+        so.affine = e.info.name == "certified-affine";
+        if (e.info.name == "reference") {
+            fn = [&tape, so](const Ray& ray) {
+                return solvers::solid_first_entry_reference(tape, ray, so);
+            };
+        } else {
+            fn = [&tape, so](const Ray& ray) { return solvers::solid_first_entry(tape, ray, so); };
+        }
+    } else {
+        fn = e.make(tape, options);
+    }
     // Each ray in the library's floating-point environment, whatever the calling thread's.
     return [fn = std::move(fn)](const Ray& ray) {
         NearestScope ray_env;

@@ -26,9 +26,22 @@
 
 namespace certray::tracers {
 
+/// Which surface a query answers (docs/design.md): Zero, the first t with f = 0; Solid, the first
+/// entry into {f < 0} (what CSG, SDF and CAD models mean: regions where f ≡ 0 are not interior).
+enum class Surface : std::uint8_t { Zero, Solid };
+
+/// "zero" or "solid".
+std::string_view name(Surface s);
+/// The surface named `name`; throws std::invalid_argument for another name.
+Surface parse_surface(std::string_view name);
+
 /// The knobs of every method, with their defaults; which method reads which is in its
 /// MethodInfo, and resolve_knobs refuses the others.
 struct MethodOptions {
+    /// The surface answered. Certified methods answer either (under Solid every certified method
+    /// runs the solid solver, solvers/solid.h, on the whole tape: proven, not accelerated yet);
+    /// the approximate methods approximate the zero surface whatever this is.
+    Surface surface = Surface::Zero;
     /// Most whole-tape evaluations per ray before answering unknown (certified, and a cap on the
     /// steps of every iterative method).
     std::uint64_t budget = 20000;

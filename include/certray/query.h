@@ -25,12 +25,15 @@ namespace certray {
 
 using tracers::KnobValues;
 using tracers::MethodInfo;
+using tracers::Surface;
 
 /// How query() answers.
 struct QueryOptions {
     std::string method = "certified";  ///< a name of certray::methods()
     /// Knob values by name; a knob the method does not read is an error.
     KnobValues knobs;
+    /// The surface answered: Zero (the first f = 0) or Solid (the first entry into f < 0).
+    tracers::Surface surface = tracers::Surface::Zero;
     unsigned threads = 0;  ///< worker threads; 0: one per hardware thread
     /// Called with (rays done, rays in all) from the calling thread while the query runs.
     std::function<void(std::size_t, std::size_t)> progress;

@@ -14,6 +14,7 @@
 #include "certray/query.h"
 #include "certray/scene.h"
 #include "tracers/camera.h"
+#include "tracers/coherent.h"
 #include "tracers/render.h"
 
 namespace certray {
@@ -21,10 +22,19 @@ namespace certray {
 struct RenderSettings {
     unsigned width = 640;
     unsigned height = 480;
-    std::string method = "certified";       ///< a name of certray::methods()
-    KnobValues knobs;                       ///< the method's knobs (its bounds come from `bounds`)
-    std::optional<tracers::Box3> bounds;    ///< per axis [lo, hi]
-    std::optional<tracers::Camera> camera;  ///< unset: auto-framed
+    std::string method = "certified";     ///< a name of certray::methods()
+    KnobValues knobs;                     ///< the method's knobs (its bounds come from `bounds`)
+    std::optional<tracers::Box3> bounds;  ///< per axis [lo, hi]
+    /// The surface shown; unset: the scene's default_surface() (solid for .vm and CSG trees).
+    std::optional<tracers::Surface> surface;
+    /// An orthographic heightmap (one ray per pixel along −z over the bounds' x–y rectangle, from
+    /// z = hi down to z = lo) instead of the pinhole camera; drawn by the coherent renderer.
+    bool ortho = false;
+    /// The certified method on the zero surface is drawn by the coherent renderer
+    /// (tracers/coherent.h: rays sharing interval work, each pixel keeping its certified
+    /// meaning); false: one independent ray per pixel, as for the other methods.
+    bool coherent = true;
+    std::optional<tracers::Camera> camera;               ///< unset: auto-framed
     double fov_degrees = tracers::Camera{}.fov_degrees;  ///< of the auto-framed camera
     tracers::Aov aov = tracers::Aov::Shade;
     tracers::Vec3 light{-0.4, -0.9, 1.2};

@@ -13,6 +13,7 @@
 
 #include "expr/graph.h"
 #include "expr/tape.h"
+#include "tracers/methods.h"
 
 namespace certray {
 
@@ -38,6 +39,9 @@ class Scene {
     /// header says ("Suggested bounds: [lo,hi]^3", or Fidget's "--scale S": [-1/S, 1/S]³), else
     /// [-1, 1]³ (where Fidget's models live and its renderers look); none for the others.
     const std::optional<std::array<std::array<double, 2>, 3>>& bounds() const noexcept;
+    /// The surface the scene's authors mean, which render() shows by default: Solid for Fidget
+    /// .vm files and CSG trees (their renderers draw {f < 0}), Zero for the others.
+    tracers::Surface default_surface() const noexcept;
     /// f in the expression language (parses back to the same function).
     std::string to_expr() const;
 

@@ -149,6 +149,30 @@ TEST(Api, CancelledQueriesThrow) {
     EXPECT_THROW(query(scene, rays, o), Cancelled);
 }
 
+TEST(Api, SolidSurfaceSkipsRegionsWhereFIsZero) {
+    // Along (t − 3, 0, 0): f = min(max(x, 0), (x − 2)² + y² + z² − 1/4) is ≡ 0 for x ≤ 0 (t ≤ 3),
+    // positive for 0 < x < 1.5 and negative inside the ball from x = 1.5 (t = 4.5).
+    const Scene scene = Scene::parse("min(max(x, 0), (x - 2)^2 + y^2 + z^2 - 0.25)");
+    const Ray ray{{-3, 0, 0}, {1, 0, 0}, 0, 10};
+    QueryOptions solid;
+    solid.surface = Surface::Solid;
+    for (const char* method : {"certified", "certified-octree", "reference"}) {
+        solid.method = method;
+        const RayResult r = query_one(scene, ray, solid);
+        EXPECT_EQ(r.status, Status::Hit) << method;
+        EXPECT_TRUE(encloses(r, 4.5)) << method << " " << r.t_lo << " " << r.t_hi;
+    }
+    // The zero surface: f = 0 already at t = 0.
+    const RayResult z = query_one(scene, ray);
+    EXPECT_EQ(z.status, Status::Hit);
+    EXPECT_EQ(z.t_lo, 0.0);
+    // A ray through the f ≡ 0 region only: no entry into the solid.
+    const RayResult slab = query_one(scene, {{-3, 5, 0}, {1, 0, 0}, 0, 2}, solid);
+    EXPECT_EQ(slab.status, Status::Miss);
+    EXPECT_EQ(Scene::load(scene_path("test.json")).default_surface(), Surface::Solid);
+    EXPECT_EQ(Scene::load(scene_path("torus.expr")).default_surface(), Surface::Zero);
+}
+
 TEST(Api, RegistrySaysWhichMethodsAreProven) {
     int certified = 0, approximate = 0;
     for (const MethodInfo& m : methods()) (m.certified ? certified : approximate)++;

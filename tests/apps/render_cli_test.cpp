@@ -116,6 +116,28 @@ TEST_F(RenderCli, CameraFlagsAsInTheJson) {
     EXPECT_EQ(run("render sphere.expr -o x.png --eye 0 -5"), 2);  // three numbers
 }
 
+TEST_F(RenderCli, SurfaceAndOrthographicCamera) {
+    EXPECT_EQ(run("render sphere.expr -o s.png --size 32x24"), 0) << err_;
+    EXPECT_NE(out_.find("surface zero"), std::string::npos) << out_;  // .expr: zero by default
+    EXPECT_EQ(run("render sphere.expr -o s.png --size 32x24 --surface solid"), 0) << err_;
+    EXPECT_NE(out_.find("surface solid"), std::string::npos) << out_;
+    EXPECT_NE(out_.find("unknown 0"), std::string::npos) << out_;
+    // Ortho over the default bounds [-2, 2]^3 from z = 2 down: the unit sphere's top is at t = 1
+    // under the middle pixel of an odd-sized image.
+    ASSERT_EQ(run("render sphere.expr -o o.png --size 33x33 --camera ortho --aov depth --data "
+                  "o.npy"),
+              0)
+        << err_;
+    std::string header;
+    const std::vector<float> depth = read_npy(path("o.npy"), header);
+    ASSERT_EQ(depth.size(), 33u * 33u);
+    EXPECT_NEAR(depth[16 * 33 + 16], 1.0f, 1e-5f);
+    EXPECT_TRUE(std::isnan(depth[0]));  // the corner ray passes beside the sphere
+    EXPECT_EQ(run("render sphere.expr -o o.png --camera ortho --method sphere"), 2);
+    EXPECT_EQ(run("render sphere.expr -o o.png --camera ortho --eye 0 0 5"), 2);
+    EXPECT_EQ(run("render sphere.expr -o o.png --surface hollow"), 2);
+}
+
 TEST_F(RenderCli, Renders2dSceneWithExactCount) {
     // 64×64 over [−1, 1]²: centres (2i + 1 − 64)/64 exactly, so f < 0 ⇔ a² + b² < 0.5625·64².
     long expected = 0;
