@@ -138,6 +138,20 @@ TEST_F(RenderCli, SurfaceAndOrthographicCamera) {
     EXPECT_EQ(run("render sphere.expr -o o.png --surface hollow"), 2);
 }
 
+TEST_F(RenderCli, ModelsAsTheirAuthorsMadeThemRenderWithNoUnknownPixel) {
+    // Fidget's and Lipschitz-Pruning's models, drawn as their renderers draw them: the solid
+    // f < 0, every pixel proven (hit or miss).
+    const std::string scenes = std::string(CERTRAY_SOURCE_DIR) + "/scenes/";
+    for (const char* model : {"tanglecube.vm 48x36", "test.json 48x36", "molecule.json 24x18"}) {
+        const std::string m(model);
+        const std::string file = m.substr(0, m.find(' ')), size = m.substr(m.find(' ') + 1);
+        ASSERT_EQ(run("render '" + scenes + file + "' -o m.png -q --size " + size), 0) << err_;
+        EXPECT_NE(out_.find("surface solid"), std::string::npos) << file << ": " << out_;
+        EXPECT_NE(out_.find(", unknown 0 pixels"), std::string::npos) << file << ": " << out_;
+        EXPECT_EQ(out_.find("hit 0,"), std::string::npos) << file << ": " << out_;
+    }
+}
+
 TEST_F(RenderCli, Renders2dSceneWithExactCount) {
     // 64×64 over [−1, 1]²: centres (2i + 1 − 64)/64 exactly, so f < 0 ⇔ a² + b² < 0.5625·64².
     long expected = 0;
