@@ -83,7 +83,8 @@ int main(int argc, char** argv) {
                      "written to OUT.tmp, then renamed)")
         ->required();
     cmd_query->add_option("--stats", query.stats,
-                          "Also write STATS.json: method, rays, solve seconds, threads, "
+                          "Also write STATS.json: method, certified (true: every hit and miss is "
+                          "proven), surface, the knobs set, rays, solve seconds, threads, "
                           "evaluation counts by kind, per-ray evaluations, status counts");
     cmd_query->add_option("--threads", query.threads, "Worker threads (0: one per hardware thread)")
         ->capture_default_str();
@@ -193,8 +194,10 @@ int main(int argc, char** argv) {
                          "No progress and no notes on stderr (errors are still printed)");
     cmd_render
         ->add_option("--bounds", render.bounds,
-                     "Scene bounds: the cube [lo, hi]^3 (2D: the square [lo, hi]^2); "
-                     "default [-2, 2]^3 in 3D, [-1, 1]^2 in 2D")
+                     "Scene bounds: the cube [lo, hi]^3 (2D: the square [lo, hi]^2); default: "
+                     "the file's own (a .vm's \"Suggested bounds\" or Fidget's --scale, else "
+                     "[-1, 1]^3; a CSG tree's aabb; a render JSON's \"bounds\"), else [-2, 2]^3 "
+                     "in 3D and [-1, 1]^2 in 2D")
         ->expected(2);
     cmd_render
         ->add_option("--threads", render.threads, "Worker threads (0: one per hardware thread)")
@@ -216,7 +219,9 @@ int main(int argc, char** argv) {
     CLI::App* cmd_bench = app.add_subcommand(
         "bench",
         "The error-against-run-time study: every method over its knob sweep on the gallery and "
-        "the stress suite, timed per ray and judged against the MPFR reference; writes "
+        "the stress suite, timed per ray and judged by an oracle that shares no code with the "
+        "certified solver where one exists (exact rationals on polynomial scenes, mpmath "
+        "brackets on the stress suite; the MPFR reference elsewhere); writes "
         "measurements.csv, summary.csv, PNG plots and report.md (docs/theory/bench.md)");
     cmd_bench->add_option("-o,--out", bench.out_dir, "Output directory")->capture_default_str();
     cmd_bench->add_option("--report", bench.report,

@@ -104,7 +104,8 @@ nlohmann::json make_stats(const QueryOptions& options, const tracers::MethodOpti
     j["rays"] = results.size();
     j["seconds"] = seconds;
     j["threads"] = threads;
-    j["budget"] = knobs.budget;
+    const auto& reads = tracers::method_info(options.method).knobs;
+    if (std::find(reads.begin(), reads.end(), "budget") != reads.end()) j["budget"] = knobs.budget;
     nlohmann::json given = nlohmann::json::object();
     for (const auto& [name, value] : options.knobs.values) given[name] = value;
     if (options.knobs.bounds) given["bounds"] = *options.knobs.bounds;
@@ -126,7 +127,8 @@ nlohmann::json make_stats(const QueryOptions& options, const tracers::MethodOpti
 std::vector<std::string> query_methods() { return tracers::method_names(); }
 
 int run_query(const QueryOptions& options) {
-    if (const std::string_view* now = tracers::renamed_method(options.method)) {
+    const std::string_view* now = tracers::renamed_method(options.method);
+    if (now && !options.quiet) {
         std::cerr << "certray query: method '" << options.method << "' is now called '" << *now
                   << "' (the old name still works)\n";
     }

@@ -343,7 +343,8 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
 
     const std::string method = o.method ? *o.method : spec.method.value_or("certified");
     if (!check_method(method)) return 2;
-    if (const std::string_view* now = tracers::renamed_method(method)) {
+    const std::string_view* now = tracers::renamed_method(method);
+    if (now && !o.quiet) {
         std::cerr << "certray render: method '" << method << "' is now called '" << *now
                   << "' (the old name still works)\n";
     }

@@ -57,10 +57,12 @@ std::vector<Ray> read_rays(
 py::dict query(const Scene& scene,
                const py::array_t<double, py::array::c_style | py::array::forcecast>& rays_in,
                const std::string& method, const std::map<std::string, double>& knobs,
-               std::optional<std::array<double, 2>> bounds, unsigned threads) {
+               std::optional<std::array<double, 2>> bounds, unsigned threads,
+               const std::string& surface) {
     const std::vector<Ray> rays = read_rays(rays_in);
     certray::QueryOptions o;
     o.method = method;
+    o.surface = certray::tracers::parse_surface(surface);
     o.knobs = knob_values(knobs, bounds);
     o.threads = threads;
     std::vector<RayResult> results;
@@ -98,8 +100,10 @@ py::dict query(const Scene& scene,
 py::dict render(const Scene& scene, unsigned width, unsigned height, const std::string& method,
                 const std::map<std::string, double>& knobs,
                 std::optional<std::array<double, 2>> bounds, const std::string& aov,
-                unsigned threads) {
+                unsigned threads, std::optional<std::string> surface, bool ortho) {
     certray::RenderSettings s;
+    if (surface) s.surface = certray::tracers::parse_surface(*surface);
+    s.ortho = ortho;
     s.width = width;
     s.height = height;
     s.method = method;
@@ -185,12 +189,15 @@ PYBIND11_MODULE(_core, m) {
             "parse", [](const std::string& text) { return Scene::parse(text); }, py::arg("text"))
         .def("to_expr", &Scene::to_expr)
         .def_property_readonly("is_2d", &Scene::is_2d)
-        .def_property_readonly("tape_size", [](const Scene& s) { return s.tape().size(); });
+        .def_property_readonly("tape_size", [](const Scene& s) { return s.tape().size(); })
+        .def_property_readonly("default_surface", [](const Scene& s) {
+            return std::string(certray::tracers::name(s.default_surface()));
+        });
     m.def("query", &query, py::arg("scene"), py::arg("rays"), py::arg("method"), py::arg("knobs"),
-          py::arg("bounds"), py::arg("threads"));
+          py::arg("bounds"), py::arg("threads"), py::arg("surface"));
     m.def("render", &render, py::arg("scene"), py::arg("width"), py::arg("height"),
           py::arg("method"), py::arg("knobs"), py::arg("bounds"), py::arg("aov"),
-          py::arg("threads"));
+          py::arg("threads"), py::arg("surface"), py::arg("ortho"));
     m.def("methods", &methods);
     m.attr("__version__") = CERTRAY_VERSION_STRING;
 }

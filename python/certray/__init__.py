@@ -77,6 +77,11 @@ class Scene:
     def tape_size(self):
         return self._core.tape_size
 
+    @property
+    def default_surface(self):
+        """'solid' for Fidget .vm files and CSG trees, 'zero' for the others."""
+        return self._core.default_surface
+
     def __reduce__(self):
         return (Scene.parse, (self.to_expr(),))
 
@@ -84,9 +89,10 @@ class Scene:
         src = self._path or "<expression>"
         return f"certray.Scene({src}, {self.tape_size} instructions)"
 
-    def query(self, rays, method="certified", threads=0, **knobs):
+    def query(self, rays, method="certified", threads=0, surface="zero", **knobs):
         """Answers rays, an (N, 8) array of ox, oy, oz, dx, dy, dz, tmin, tmax.
 
+        surface: "zero" (the first f = 0) or "solid" (the first entry into f < 0).
         Returns (hits, stats): hits a structured array with fields status ('hit', 'miss',
         'unknown'), t_lo, t_hi, t, evaluations; stats a dict (method, certified, rays, counts).
         Knobs are the method's (certray.methods()); one it does not read is a ValueError.
@@ -95,7 +101,7 @@ class Scene:
         rays = np.asarray(rays, dtype=np.float64)
         if rays.ndim == 1 and rays.shape[0] == 8:
             rays = rays.reshape(1, 8)
-        r = _core.query(self._core, rays, method, values, bounds, int(threads))
+        r = _core.query(self._core, rays, method, values, bounds, int(threads), surface)
         hits = np.empty(len(r["status"]), dtype=HITS_DTYPE)
         hits["status"] = np.array(STATUS, dtype="U7")[r["status"]]
         for field in ("t_lo", "t_hi", "t", "evaluations"):
@@ -103,6 +109,7 @@ class Scene:
         stats = {
             "method": method,
             "certified": r["certified"],
+            "surface": surface if r["certified"] else "zero",
             "rays": len(hits),
             "status": {s: int(np.count_nonzero(r["status"] == i)) for i, s in enumerate(STATUS)},
             "evaluations": int(r["evaluations"].sum()),
@@ -110,14 +117,19 @@ class Scene:
         return hits, stats
 
     def render(self, size=(320, 240), method="certified", aov="shade", bounds=None, threads=0,
-               **knobs):
+               surface=None, camera="pinhole", **knobs):
         """A 3D image: (image, info) with image an (H, W, 3) uint8 array (matplotlib's imshow
-        shows it) and info the per-pixel status (0 hit, 1 miss, 2 unknown) and t arrays."""
+        shows it) and info the per-pixel status (0 hit, 1 miss, 2 unknown) and t arrays.
+        surface: None (the scene's default: solid for .vm and CSG trees), "zero" or "solid";
+        camera: "pinhole" (auto-framed) or "ortho" (a heightmap along -z over the bounds)."""
+        if camera not in ("pinhole", "ortho"):
+            raise ValueError(f"camera: expected 'pinhole' or 'ortho', got {camera!r}")
         values, _ = _split_knobs(dict(knobs))
         if bounds is not None:
             bounds = (float(bounds[0]), float(bounds[1]))
         width, height = (int(v) for v in size)
-        r = _core.render(self._core, width, height, method, values, bounds, aov, int(threads))
+        r = _core.render(self._core, width, height, method, values, bounds, aov, int(threads),
+                         surface, camera == "ortho")
         image = r.pop("image")
         return image, r
 
@@ -184,6 +196,11 @@ def _fn(name):
 x, y, z = Expr("x"), Expr("y"), Expr("z")
 sqrt, exp, log, sin, cos, square = (_fn(n) for n in ("sqrt", "exp", "log", "sin", "cos", "square"))
 abs_ = _fn("abs")
+# Fidget's opcodes (docs/guide/expr-language.md); and/or/not are Python keywords: and_, or_, not_.
+floor, ceil, round_, tan, asin, acos, atan, recip = (
+    _fn(n) for n in ("floor", "ceil", "round", "tan", "asin", "acos", "atan", "recip"))
+atan2, compare, mod = (_fn(n) for n in ("atan2", "compare", "mod"))
+and_, or_, not_ = _fn("and"), _fn("or"), _fn("not")
 min_ = _fn("min")
 max_ = _fn("max")
 # The Python names of the builtins they shadow: certray.min(a, b), certray.max(a, b), certray.abs(a).

@@ -106,3 +106,22 @@ def test_queries_run_in_parallel_python_threads():
         t.join()
     assert results[0]["status"].tolist() == results[1]["status"].tolist()
     assert (results[0]["status"] == "hit").sum() > 0
+
+
+def test_solid_surface_and_fidget_functions():
+    x, y, z = certray.x, certray.y, certray.z
+    # f = min(max(x, 0), (x - 2)^2 + y^2 + z^2 - 1/4): f = 0 for x <= 0, the ball entered at x = 1.5.
+    scene = certray.Scene.parse(certray.min(certray.max(x, 0), (x - 2) ** 2 + y**2 + z**2 - 0.25))
+    ray = [[-3, 0, 0, 1, 0, 0, 0, 10]]
+    solid, stats = scene.query(ray, surface="solid")
+    assert solid["status"][0] == "hit" and solid["t_lo"][0] <= 4.5 <= solid["t_hi"][0]
+    assert stats["surface"] == "solid"
+    zero, _ = scene.query(ray)
+    assert zero["t_lo"][0] == 0.0
+    # floor(x) - 0.5 jumps over 0 at x = 1 and has no zero: never a hit.
+    jump = certray.Scene.parse(certray.floor(x) - 0.5 + 0 * z)
+    hits, _ = jump.query([[0, 0, 0, 1, 0, 0, 0, 3]])
+    assert hits["status"][0] != "hit"
+    assert certray.Scene.load(os.path.join(SCENES, "test.json")).default_surface == "solid"
+    image, info = certray.Scene.parse("x^2 + y^2 + z^2 - 1").render(size=(21, 21), camera="ortho")
+    assert info["status"][10, 10] == 0 and abs(info["t"][10, 10] - 1.0) < 1e-6
