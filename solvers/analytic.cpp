@@ -16,6 +16,7 @@
 #include "solvers/bernstein.h"
 #include "solvers/certified.h"
 #include "solvers/closed_form.h"
+#include "solvers/exact.h"
 
 namespace certray::solvers {
 namespace {
@@ -164,8 +165,9 @@ std::string why_not_polynomial(const expr::Tape& tape) {
     return {};
 }
 
-RayResult analytic_first_root(const expr::Tape& tape, const Ray& ray,
-                              const AnalyticOptions& options) {
+namespace {
+
+RayResult analytic_search(const expr::Tape& tape, const Ray& ray, const AnalyticOptions& options) {
     thread_local Scratch s;
     RayResult result;
     auto unknown = [&](double lo, double hi) {
@@ -241,6 +243,22 @@ RayResult analytic_first_root(const expr::Tape& tape, const Ray& ray,
     }
     result.status = Status::Miss;
     return result;
+}
+
+}  // namespace
+
+RayResult analytic_first_root(const expr::Tape& tape, const Ray& ray,
+                              const AnalyticOptions& options) {
+    NearestScope env;  // sound in any caller's floating-point environment
+    RayResult r = analytic_search(tape, ray, options);
+    // Certified (Bernstein) answers that floating point left undecided, or wider than 4 ulps,
+    // re-decided by the exact oracle on a polynomial scene, as certified_first_root does.
+    double four_ulps = r.t_lo;
+    for (int i = 0; i < 4; ++i) four_ulps = std::nextafter(four_ulps, HUGE_VAL);
+    const bool wide = r.status == Status::Hit && four_ulps < r.t_hi;
+    if (options.mode != AnalyticOptions::Mode::Bernstein || !(r.status == Status::Unknown || wide))
+        return r;
+    return exact_fallback(tape, ray, r, options.budget);
 }
 
 }  // namespace certray::solvers

@@ -512,17 +512,7 @@ RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
     }
     // Undecided or wide: on a polynomial scene the exact oracle decides, within what is left of
     // the budget (its evaluations added). It is never less certain than this answer.
-    const std::uint64_t spent = r.evals.total();
-    if (spent >= options.budget || !is_polynomial(tape)) return r;
-    ExactOptions exact;
-    exact.budget = options.budget - spent;
-    RayResult e = exact_first_root(tape, ray, exact);
-    e.evals += r.evals;
-    if (e.status == Status::Unknown) {
-        r.evals = e.evals;
-        return r;
-    }
-    return e;
+    return exact_fallback(tape, ray, r, options.budget);
 }
 
 RayResult certified_first_root_reference(const expr::Tape& tape, const Ray& ray,

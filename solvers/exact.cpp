@@ -710,4 +710,19 @@ RayResult exact_first_root(const expr::Tape& tape, const Ray& ray, const ExactOp
     return exact_root(tape, ray, options).result;
 }
 
+RayResult exact_fallback(const expr::Tape& tape, const Ray& ray, RayResult r,
+                         std::uint64_t budget) {
+    const std::uint64_t spent = r.evals.total();
+    if (spent >= budget || !is_polynomial(tape)) return r;
+    ExactOptions exact;
+    exact.budget = budget - spent;
+    RayResult e = exact_first_root(tape, ray, exact);
+    e.evals += r.evals;
+    if (e.status == Status::Unknown) {
+        r.evals = e.evals;
+        return r;
+    }
+    return e;
+}
+
 }  // namespace certray::solvers

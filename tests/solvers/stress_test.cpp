@@ -5,6 +5,7 @@
 // reference must give zero wrong answers; the certified solver must prove every simple root.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -13,6 +14,7 @@
 
 #include "expr/load.h"
 #include "expr/tape.h"
+#include "solvers/analytic.h"
 #include "solvers/certified.h"
 #include "solvers/exact.h"
 #include "solvers/ray.h"
@@ -100,6 +102,30 @@ TEST_F(Stress, ExactDecidesEveryPolynomialCase) {
         }
     }
     EXPECT_GE(polynomial, 6);  // quadric, touch, subnormal, cluster10
+}
+
+TEST_F(Stress, CertifiedAndBernsteinDecideEveryPolynomialCaseWithinFourUlps) {
+    // The goal: no unknown on polynomial scenes, every hit at most 4 ulps wide — for the
+    // certified solver and the Bernstein method, through their exact fallback.
+    AnalyticOptions bernstein;
+    bernstein.mode = AnalyticOptions::Mode::Bernstein;
+    for (const Case& c : *cases_) {
+        const expr::Tape& tape = tapes_->at(c.scene);
+        if (!is_polynomial(tape)) continue;
+        SCOPED_TRACE(c.label);
+        for (const RayResult& r :
+             {testing::as_host([&] { return certified_first_root(tape, c.ray); }),
+              testing::as_host([&] { return analytic_first_root(tape, c.ray, bernstein); })}) {
+            check(c, r, true);
+            ASSERT_NE(r.status, Status::Unknown);
+            if (r.status != Status::Hit) continue;
+            // 4 ulps at the enclosure's magnitude: at most 4·ulp(max(|t_lo|, |t_hi|)) wide.
+            const double scale = std::max(std::fabs(r.t_lo), std::fabs(r.t_hi));
+            double four_ulps = scale;
+            for (int i = 0; i < 4; ++i) four_ulps = std::nextafter(four_ulps, HUGE_VAL);
+            EXPECT_LE(r.t_hi - r.t_lo, four_ulps - scale) << r.t_lo << " " << r.t_hi;
+        }
+    }
 }
 
 TEST_F(Stress, SmallBudgetsStayHonest) {
