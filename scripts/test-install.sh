@@ -12,6 +12,11 @@ trap 'rm -rf "$tmp"' EXIT
 cmake --install "$build" --prefix "$tmp/prefix" >/dev/null
 test -f "$tmp/prefix/include/certray/certray.h"
 test -f "$tmp/prefix/lib/cmake/certray/certrayConfig.cmake"
+# The core needs neither CLI11 nor nlohmann-json (libpng only for certray::certray_png).
+if grep -qiE "nlohmann|CLI11" "$tmp/prefix/lib/cmake/certray/"*.cmake; then
+    echo "the installed package depends on CLI11 or nlohmann-json" >&2
+    exit 1
+fi
 
 cmake -S "$root/examples" -B "$tmp/examples" -G Ninja -DCMAKE_BUILD_TYPE=Release \
     -DCMAKE_PREFIX_PATH="$tmp/prefix" >/dev/null
