@@ -146,13 +146,15 @@ std::vector<Config> make_configs(const BenchOptions& o, bool stress) {
             for (const tracers::Knob& kn : tracers::knobs()) {
                 if (kn.name == sw.knob) knob = &kn;
             }
-            // The default run is the swept value nearest the knob's default.
+            // The default run is the value run nearest the knob's default (--quick runs only the
+            // sweep's ends, which need not include the default itself).
             const double d = knob->get(def);
-            double nearest = sw.values.front();
-            for (double v : sw.values) {
+            const std::vector<double> run = pick(sw.values);
+            double nearest = run.front();
+            for (double v : run) {
                 if (std::abs(std::log(v / d)) <= std::abs(std::log(nearest / d))) nearest = v;
             }
-            for (double v : pick(sw.values)) {
+            for (double v : run) {
                 Config c = base;
                 c.knob = std::string(sw.knob);
                 c.value = v;

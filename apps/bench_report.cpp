@@ -7,6 +7,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -18,6 +19,7 @@
 #include "solvers/certified.h"
 #include "tracers/camera.h"
 #include "tracers/image2d.h"
+#include "tracers/methods.h"
 
 namespace certray::apps::study {
 namespace {
@@ -102,6 +104,50 @@ std::string cpu_model() {
 
 std::string cell_error(double e) { return std::isnan(e) ? "—" : fmt("%.2g", e); }
 
+/// "1 scene", "3 scenes".
+std::string count(std::size_t n, const std::string& noun) {
+    return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
+/// What the study covers, for the report's opening: "gallery: 3 scenes (a, b, c), 32 rays
+/// each; stress suite: 38 cases in 13 scenes", or "stress suite: not run (--stress none)".
+std::string coverage(const BenchOptions& o, const Study& st) {
+    std::string s = "gallery: ";
+    if (st.gallery.empty()) {
+        s += "not run (no scenes)";
+    } else {
+        std::size_t lo = st.gallery.front().rays.size(), hi = lo;
+        s +=
+            std::to_string(st.gallery.size()) + (st.gallery.size() == 1 ? " scene (" : " scenes (");
+        for (std::size_t k = 0; k < st.gallery.size(); ++k) {
+            s += (k ? ", " : "") + st.gallery[k].name;
+            lo = std::min(lo, st.gallery[k].rays.size());
+            hi = std::max(hi, st.gallery[k].rays.size());
+        }
+        s += "), " + std::to_string(lo) + (lo == hi ? "" : "–" + std::to_string(hi)) + " rays" +
+             (st.gallery.size() == 1 ? "" : " each");
+    }
+    s += "; stress suite: ";
+    if (st.stress.empty()) {
+        s += o.stress == "none" ? "not run (--stress none)" : "not run (no cases; see Notes)";
+    } else {
+        std::size_t cases = 0;
+        for (const Scene& sc : st.stress) cases += sc.rays.size();
+        s += count(cases, "case") + " in " + count(st.stress.size(), "scene");
+    }
+    return s;
+}
+
+/// The stress table's column name: the method, and its setting when that is not the default.
+std::string column_name(const Config& c) {
+    if (c.knob == "default") return c.method;
+    const tracers::MethodOptions def;
+    for (const tracers::Knob& kn : tracers::knobs()) {
+        if (kn.name == c.knob && kn.get(def) == c.value) return c.method;
+    }
+    return c.label();
+}
+
 std::string make_report(const BenchOptions& o, const Study& st, unsigned threads,
                         std::size_t& certified_wrong) {
     std::string md;
@@ -117,6 +163,12 @@ std::string make_report(const BenchOptions& o, const Study& st, unsigned threads
           "docs/theory/bench.md. Data: measurements.csv, summary.csv, peers.csv, pruning.csv and "
           "the plots (*.png) in the output directory `" +
           o.out_dir + "`.\n\n";
+    md += "Covers " + coverage(o, st) + ".\n\n";
+    const bool gallery_ran = !st.gallery.empty(), stress_ran = !st.stress.empty();
+    const std::string suites = gallery_ran && stress_ran ? "gallery and stress suite"
+                               : gallery_ran             ? "gallery only"
+                               : stress_ran              ? "stress suite only"
+                                                         : "no suite";
 
     // Soundness of the certified methods.
     std::map<std::string, std::array<std::size_t, 2>> cert;  // method → rays judged, wrong
@@ -132,7 +184,7 @@ std::string make_report(const BenchOptions& o, const Study& st, unsigned threads
         certified_wrong += v[1];
         if (v[1] == 0) {
             md += "- `" + name + "`: **zero wrong answers** in " + std::to_string(v[0]) +
-                  " judged rays (gallery and stress suite, every budget).\n";
+                  " judged rays (" + suites + ", every setting).\n";
         } else {
             md +=
                 "- ⚠️ **`" + name + "`: " + std::to_string(v[1]) + " WRONG ANSWERS in " +
@@ -258,19 +310,37 @@ std::string make_report(const BenchOptions& o, const Study& st, unsigned threads
 
     // The stress table.
     if (!st.stress.empty()) {
-        std::vector<const Config*> cols;
-        for (const Config& c : st.stress_configs) {
-            if (c.is_default) cols.push_back(&c);
+        // A column for every method that ran on the suite (the ones the totals below list), in
+        // the order of the configs: its default run, else (when it has none) its first setting.
+        std::set<std::string> ran;
+        for (const Summary& m : st.summaries) {
+            if (m.scene->suite == "stress") ran.insert(m.config->method);
         }
-        md +=
-            "## The stiff-and-extreme suite (scenes/stress)\n\n"
-            "Each method at its default setting (certified budget 20,000; ε = 1e-6; march step "
-            "0.01; hermite 128 samples). Cell: class, |t − t*| when both hit, µs. Classes: ok "
-            "correct, MISS missed hit, FALSE false hit, OVER overshoot (a later root, or an "
-            "unknown past the root), unk unknown (the right answer of a certified method on "
-            "tangent and hard cases). Truth: the exact brackets of cases.csv.\n\n| case | "
-            "expect";
-        for (const Config* c : cols) md += " | " + c->method;
+        std::vector<const Config*> cols;
+        std::map<std::string, std::size_t> col_of;
+        for (const Config& c : st.stress_configs) {
+            if (!ran.count(c.method)) continue;
+            const auto [it, fresh] = col_of.emplace(c.method, cols.size());
+            if (fresh) {
+                cols.push_back(&c);
+            } else if (c.is_default && !cols[it->second]->is_default) {
+                cols[it->second] = &c;
+            }
+        }
+        std::size_t cases = 0;
+        for (const Scene& sc : st.stress) cases += sc.rays.size();
+        md += "## The stiff-and-extreme suite (scenes/stress)\n\n" + count(cases, "case") + " in " +
+              count(st.stress.size(), "scene") +
+              ". Every method that ran on the suite, at its default setting (certified budget "
+              "20,000; ε = 1e-6; march step 0.01) or, when that was not run, at the setting run "
+              "nearest it, named in the column's header (hermite: 128 samples, the default being "
+              "64; --quick runs only the ends of each sweep). Cell: class, |t − t*| when both "
+              "hit, µs. Classes: ok "
+              "correct, MISS missed hit, FALSE false hit, OVER overshoot (a later root, or an "
+              "unknown past the root), unk unknown (the right answer of a certified method on "
+              "tangent and hard cases). Truth: the exact brackets of cases.csv.\n\n| case | "
+              "expect";
+        for (const Config* c : cols) md += " | " + column_name(*c);
         md += " |\n| --- | ---";
         for (std::size_t k = 0; k < cols.size(); ++k) md += " | ---";
         md += " |\n";

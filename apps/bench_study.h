@@ -41,7 +41,9 @@ struct Config {
     bool certified = false;
     MethodFactory factory;  ///< set for extra methods
     double tol_epsilon = 1e-6;
-    bool is_default = true;  ///< the knob value is MethodOptions' default (stress table column)
+    /// The knob value run nearest MethodOptions' default (the stress table's column; with
+    /// --quick it may differ from the default, and the column is then named by its label()).
+    bool is_default = true;
     std::string label() const {
         if (knob == "default") return method;
         char buf[64];

@@ -185,6 +185,13 @@ TEST_F(BenchTest, CertifiedIsExactAndBrokenTracerIsCaught) {
     EXPECT_NE(md.find("## Which method wins where"), std::string::npos);
     EXPECT_NE(md.find("broken-sphere"), std::string::npos);
     EXPECT_EQ(md.find("WRONG ANSWERS"), std::string::npos);
+    // The report names what it covers.
+    EXPECT_NE(md.find("Covers gallery: 1 scene (sphere.expr), 4 rays; stress suite: not run "
+                      "(--stress none)."),
+              std::string::npos)
+        << md;
+    EXPECT_NE(md.find("(gallery only, every setting)"), std::string::npos);
+    EXPECT_EQ(md.find("gallery and stress suite"), std::string::npos);
     for (const auto& e : fs::directory_iterator(opts_.out_dir)) {
         EXPECT_NE(e.path().extension(), ".tmp") << e.path();
     }
@@ -198,6 +205,43 @@ TEST_F(BenchTest, WrongCertifiedMethodIsReportedLoudly) {
     const std::string md = slurp(dir_ / "copy.md");
     EXPECT_NE(md.find("WRONG ANSWERS"), std::string::npos) << md;
     EXPECT_EQ(md, slurp(fs::path(opts_.out_dir) / "report.md"));
+}
+
+TEST_F(BenchTest, StressTableHasAColumnForEveryMethodInTheTotals) {
+    // --quick runs the ends of march's step sweep (0.003, 0.1), not its default 0.01: march
+    // still gets a column, named by the setting shown.
+    std::ofstream(dir_ / "cases.csv")
+        << "case,scene,ox,oy,oz,dx,dy,dz,tmin,tmax,expect,root_lo,root_hi,note\n"
+           "head-on,sphere.expr,0,0,-3,0,0,1,0,10,hit,0x1p+1,0x1p+1,\n"
+           "off-axis,sphere.expr,0.6,0,-3,0,0,1,0,10,hit,0x1.1999999999999p+1,"
+           "0x1.199999999999ap+1,\n";
+    opts_.stress = (dir_ / "cases.csv").string();
+    opts_.quick = true;
+    opts_.methods = {"certified", "march"};
+    opts_.extra_methods = {};
+    ASSERT_EQ(run_bench(opts_), 0);
+    const std::string md = slurp(fs::path(opts_.out_dir) / "report.md");
+    EXPECT_NE(md.find("Covers gallery: 1 scene (sphere.expr), 4 rays; stress suite: 2 cases in 1 "
+                      "scene."),
+              std::string::npos)
+        << md;
+    EXPECT_NE(md.find("(gallery and stress suite, every setting)"), std::string::npos);
+    const auto head = md.find("| case | expect");
+    ASSERT_NE(head, std::string::npos) << md;
+    const std::string header = md.substr(head, md.find('\n', head) - head);
+    const auto totals = md.find("Stress totals");
+    ASSERT_NE(totals, std::string::npos);
+    std::istringstream rows(md.substr(md.find("| --- |", totals)));
+    int methods = 0;
+    for (std::string line; std::getline(rows, line) && line.rfind("| ", 0) == 0;) {
+        if (line.rfind("| ---", 0) == 0) continue;
+        const std::string name = line.substr(2, line.find(" |") - 2);
+        EXPECT_NE(header.find("| " + name + " "), std::string::npos) << name << ": " << header;
+        ++methods;
+    }
+    EXPECT_EQ(methods, 2);
+    EXPECT_NE(header.find("| march step="), std::string::npos) << header;
+    EXPECT_NE(header.find("| certified |"), std::string::npos) << header;
 }
 
 TEST(BenchClassify, ClassesAgainstTheTruth) {
