@@ -129,6 +129,7 @@ RayResult march(const expr::Tape& tape, const Ray& ray, const TraceOptions& opti
     double t0 = ray.tmin;
     double g0 = g(t0);
     std::uint64_t i = 0;
+    const Deadline deadline(options.seconds);
     while (true) {
         if (std::isnan(g0)) return unknown(t0);
         if (g0 == 0) {
@@ -137,7 +138,7 @@ RayResult march(const expr::Tape& tape, const Ray& ray, const TraceOptions& opti
             return r;
         }
         if (t0 >= ray.tmax) break;
-        if (r.evals.total() >= options.budget) return unknown(t0);
+        if (r.evals.total() >= options.budget || deadline.passed()) return unknown(t0);
         ++i;
         // t_i from the start (no drift from repeated additions).
         const double t1 = std::min(ray.tmin + static_cast<double>(i) * h, ray.tmax);

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 
 #include "expr/tape.h"
@@ -29,6 +30,24 @@ struct TraceOptions {
     double kappa = 0.2;
     /// Most whole-tape evaluations (any kind) per ray; then the answer is Unknown.
     std::uint64_t budget = 20000;
+    /// Most wall-clock seconds per ray (0: no limit); then the answer is Unknown. A tracer that
+    /// crawls on a model without a usable Lipschitz bound ends in bounded time.
+    double seconds = 1.0;
+};
+
+/// The moment a ray's time budget (TraceOptions::seconds) runs out.
+class Deadline {
+  public:
+    explicit Deadline(double seconds)
+        : end_(seconds > 0 ? std::chrono::steady_clock::now() +
+                                 std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                     std::chrono::duration<double>(seconds))
+                           : std::chrono::steady_clock::time_point::max()) {}
+    /// True once the time is up.
+    bool passed() const { return std::chrono::steady_clock::now() >= end_; }
+
+  private:
+    std::chrono::steady_clock::time_point end_;
 };
 
 /// Ray marching with a fixed step and bisection of the first sign change (see the file contract).

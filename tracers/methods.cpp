@@ -47,6 +47,7 @@ TraceOptions trace_options(const MethodOptions& o) {
     t.step = o.step;
     t.kappa = o.kappa;
     t.budget = o.budget;
+    t.seconds = o.seconds;
     return t;
 }
 
@@ -176,7 +177,7 @@ const std::vector<Entry>& entries() {
           false,
           "ray marching with a fixed step (Perlin 1989), a sign change refined to --epsilon; "
           "approximate (skips features thinner than the step)",
-          {"step", "epsilon", "budget", "bounds"},
+          {"step", "epsilon", "budget", "bounds", "seconds"},
           {{"step", {0.1, 0.03, 0.01, 0.003}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_clipped_tracer(tape, o, &march);
@@ -185,7 +186,7 @@ const std::vector<Entry>& entries() {
           false,
           "sphere tracing (Hart 1996) with a proven global Lipschitz bound from the DAG (over "
           "--bounds, else over each ray's segment); never steps past the first root",
-          {"epsilon", "budget", "bounds"},
+          {"epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_lipschitz_tracer(tape, o, &sphere_trace);
@@ -194,7 +195,7 @@ const std::vector<Entry>& entries() {
           false,
           "enhanced sphere tracing (Keinert 2014): over-relaxed steps (1 + kappa)|f|/lambda with "
           "the step-back rule, same guarantee",
-          {"kappa", "epsilon", "budget", "bounds"},
+          {"kappa", "epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}, {"kappa", {0.2, 0.5}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_lipschitz_tracer(tape, o, &enhanced_trace);
@@ -203,7 +204,7 @@ const std::vector<Entry>& entries() {
           false,
           "segment tracing (Galin 2020) with local bounds of |grad f . d| over each segment from "
           "the DAG's interval derivatives; never steps past the first root",
-          {"epsilon", "budget", "bounds"},
+          {"epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_clipped_tracer(tape, o, &segment_trace);
@@ -241,7 +242,7 @@ const std::vector<Entry>& entries() {
           "sphere tracing with the local Lipschitz bound of each octree cell (Hart 1996) inside "
           "the bounds (default [-2,2]^3, --depth 5); before and after them, segment tracing; "
           "approximate, never steps past the first root",
-          {"epsilon", "budget", "bounds", "depth"},
+          {"epsilon", "budget", "bounds", "depth", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}, {"depth", {3, 7}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto tree = std::make_shared<const Octree>(
@@ -258,7 +259,7 @@ const std::vector<Entry>& entries() {
           "Lipschitz bound, unions as a BVH; a primitive far from the point is bounded by the "
           "distance to its box. Inside the bounds (default [-2,2]^3); before and after them, "
           "segment tracing; approximate, never steps past the first root",
-          {"epsilon", "budget", "bounds"},
+          {"epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto scene = std::make_shared<const BoundedScene>(tape, octree_bounds(o));
@@ -392,6 +393,10 @@ const std::vector<Knob>& knobs() {
         {"depth", KnobKind::Integer, "subdivision depth of the octree methods", 0, 10,
          [](const MethodOptions& o) { return static_cast<double>(o.depth); },
          [](MethodOptions& o, double v) { o.depth = static_cast<int>(v); }},
+        {"seconds", KnobKind::Real,
+         "most wall-clock seconds per ray of an approximate tracer, then unknown (0: no limit)", 0,
+         3600, [](const MethodOptions& o) { return o.seconds; },
+         [](MethodOptions& o, double v) { o.seconds = v; }},
         {"tighten", KnobKind::Integer,
          "1: a polynomial scene's hits wider than 4 ulps are re-decided in exact rational "
          "arithmetic; 0: the interval enclosure is kept (faster, still proven)",

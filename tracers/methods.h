@@ -59,6 +59,8 @@ struct MethodOptions {
     /// 1: on a polynomial scene, a certified hit wider than 4 ulps is re-decided exactly
     /// (solvers/exact.h); 0: the interval enclosure is kept (faster; still proven).
     int tighten = 1;
+    /// Most wall-clock seconds per ray of the approximate tracers (0: no limit).
+    double seconds = 1.0;
     /// The scene bounds: where global constants are computed and outside which tracers stop.
     /// Unset: each ray's own segment [o + tmin·d, o + tmax·d] bounds it.
     std::optional<std::array<Interval, 3>> bounds;

@@ -295,8 +295,9 @@ RayResult segment_trace(const expr::Tape& tape, const Ray& ray, const TraceOptio
     scratch.start(tape, so.sweep_pruned_above);
     double t = ray.tmin;
     double s = kInf;  // the first segment is the whole ray
+    const Deadline deadline(opt.seconds);
     while (true) {
-        if (r.evals.total() >= opt.budget) return unknown(t);
+        if (r.evals.total() >= opt.budget || deadline.passed()) return unknown(t);
         double end = std::min(detail::add_up(t, s), ray.tmax);
         const double proposed = (Interval(end) - Interval(t)).lower();
         const double floor = so.switch_floor > 0 ? so.switch_floor * proposed : kInf;

@@ -73,8 +73,11 @@ RayResult trace_distance(const DistanceAt& distance, const EstimateAt& estimate,
     double t_prev = t, r_prev = 0;
     bool positive_prev = true;  // the sign of g at t_prev
     bool pending = false;       // the step into t was over-relaxed and is not yet verified
+    const Deadline deadline(opt.seconds);
     while (true) {
-        if (r.evals.total() >= opt.budget) return unknown(pending ? t_prev : t);
+        if (r.evals.total() >= opt.budget || deadline.passed()) {
+            return unknown(pending ? t_prev : t);
+        }
         const Interval v = distance(t, r.evals);  // space units, sign of g
         ++r.evals.interval;
         if (v.is_empty() || !v.defined) {
