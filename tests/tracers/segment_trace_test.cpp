@@ -285,6 +285,20 @@ TEST(SegmentTrace, DoubledStepMutantIsCaught) {
     EXPECT_GT(caught, 0) << "the doubled-step mutant went unnoticed on " << rays << " rays";
 }
 
+TEST(SegmentTrace, TimeBudgetEndsARayUnknown) {
+    // sin(40x) + 1.5 has no zero; with no time left the tracer stops at once, unknown, never a hit;
+    // with no limit (seconds = 0) it proves the miss.
+    const expr::Tape tape(expr::parse_expr("sin(40 * x) + 1.5"));
+    const Ray ray{{0, 0, 0}, {1, 0, 0}, 0, 50};
+    TraceOptions opt;
+    opt.seconds = 1e-12;
+    const RayResult r = segment_trace(tape, ray, opt);
+    EXPECT_EQ(r.status, Status::Unknown);
+    EXPECT_EQ(r.t_lo, 0.0);
+    opt.seconds = 0;
+    EXPECT_EQ(segment_trace(tape, ray, opt).status, Status::Miss);
+}
+
 TEST(SegmentTrace, SmoothThinShell) {
     // (|p|² − 1)² − 1e-8 < 0 only for |p|² ∈ (1 − 1e-4, 1 + 1e-4): a shell about 1e-4 thick.
     // From (0, 0, −3) along +z the first root is |p|² = 1 + 1e-4: t = 3 − √1.0001.
