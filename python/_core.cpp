@@ -100,8 +100,18 @@ py::dict query(const Scene& scene,
 py::dict render(const Scene& scene, unsigned width, unsigned height, const std::string& method,
                 const std::map<std::string, double>& knobs,
                 std::optional<std::array<double, 2>> bounds, const std::string& aov,
-                unsigned threads, std::optional<std::string> surface, bool ortho) {
+                unsigned threads, std::optional<std::string> surface, bool ortho,
+                std::optional<std::array<double, 10>> camera) {
     certray::RenderSettings s;
+    if (camera) {  // eye, target, up, fov
+        const auto& c = *camera;
+        certray::tracers::Camera cam;
+        cam.eye = {c[0], c[1], c[2]};
+        cam.target = {c[3], c[4], c[5]};
+        cam.up = {c[6], c[7], c[8]};
+        cam.fov_degrees = c[9];
+        s.camera = cam;
+    }
     if (surface) s.surface = certray::tracers::parse_surface(*surface);
     s.ortho = ortho;
     s.width = width;
@@ -197,7 +207,7 @@ PYBIND11_MODULE(_core, m) {
           py::arg("bounds"), py::arg("threads"), py::arg("surface"));
     m.def("render", &render, py::arg("scene"), py::arg("width"), py::arg("height"),
           py::arg("method"), py::arg("knobs"), py::arg("bounds"), py::arg("aov"),
-          py::arg("threads"), py::arg("surface"), py::arg("ortho"));
+          py::arg("threads"), py::arg("surface"), py::arg("ortho"), py::arg("camera"));
     m.def("methods", &methods);
     m.attr("__version__") = CERTRAY_VERSION_STRING;
 }

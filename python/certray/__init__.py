@@ -121,15 +121,29 @@ class Scene:
         """A 3D image: (image, info) with image an (H, W, 3) uint8 array (matplotlib's imshow
         shows it) and info the per-pixel status (0 hit, 1 miss, 2 unknown) and t arrays.
         surface: None (the scene's default: solid for .vm and CSG trees), "zero" or "solid";
-        camera: "pinhole" (auto-framed) or "ortho" (a heightmap along -z over the bounds)."""
+        camera: "pinhole" (auto-framed), "ortho" (a heightmap along -z over the bounds), or a
+        dict with eye, target (3 numbers each) and optionally up (default (0, 0, 1)) and fov
+        (degrees, default 35) for a pinhole camera placed by hand."""
+        placed = None
+        if isinstance(camera, dict):
+            unknown = set(camera) - {"eye", "target", "up", "fov"}
+            if unknown or "eye" not in camera or "target" not in camera:
+                raise ValueError("camera: expected a dict with eye, target and optionally up, fov"
+                                 f" (got keys {sorted(camera)})")
+            eye, target = camera["eye"], camera["target"]
+            up = camera.get("up", (0, 0, 1))
+            placed = [float(v) for v in (*eye, *target, *up)] + [float(camera.get("fov", 35))]
+            if len(placed) != 10:
+                raise ValueError("camera: eye, target and up take three numbers each")
+            camera = "pinhole"
         if camera not in ("pinhole", "ortho"):
-            raise ValueError(f"camera: expected 'pinhole' or 'ortho', got {camera!r}")
+            raise ValueError(f"camera: expected 'pinhole', 'ortho' or a dict, got {camera!r}")
         values, _ = _split_knobs(dict(knobs))
         if bounds is not None:
             bounds = (float(bounds[0]), float(bounds[1]))
         width, height = (int(v) for v in size)
         r = _core.render(self._core, width, height, method, values, bounds, aov, int(threads),
-                         surface, camera == "ortho")
+                         surface, camera == "ortho", placed)
         image = r.pop("image")
         return image, r
 

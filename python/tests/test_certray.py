@@ -125,3 +125,13 @@ def test_solid_surface_and_fidget_functions():
     assert certray.Scene.load(os.path.join(SCENES, "test.json")).default_surface == "solid"
     image, info = certray.Scene.parse("x^2 + y^2 + z^2 - 1").render(size=(21, 21), camera="ortho")
     assert info["status"][10, 10] == 0 and abs(info["t"][10, 10] - 1.0) < 1e-6
+
+
+def test_render_with_a_camera_placed_by_hand():
+    # From (0, -5, 0) towards the origin the middle pixel of a 21x21 image meets the unit sphere
+    # at t = 4.
+    scene = certray.Scene.parse("x^2 + y^2 + z^2 - 1")
+    image, info = scene.render(size=(21, 21), camera={"eye": (0, -5, 0), "target": (0, 0, 0), "fov": 30})
+    assert info["status"][10, 10] == 0 and abs(info["t"][10, 10] - 4.0) < 1e-6
+    with pytest.raises(ValueError, match="camera"):
+        scene.render(size=(8, 8), camera={"eye": (0, -5, 0)})
