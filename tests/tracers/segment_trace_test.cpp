@@ -348,8 +348,9 @@ TEST(SegmentTrace, FidgetOpsNeverPastTheCertifiedFirstRoot) {
             if (ref.status == Status::Hit && r.status == Status::Hit) {
                 EXPECT_LE(r.t, ref.t_hi + 1e-12) << text << " " << so.name;
             }
-            if (ref.status == Status::Hit)
+            if (ref.status == Status::Hit) {
                 EXPECT_NE(r.status, Status::Miss) << text << " " << so.name;
+            }
         }
     }
 }
