@@ -18,6 +18,7 @@
 #include "interval/dual.h"
 #include "interval/interval.h"
 #include "interval/mpfr_interval.h"
+#include "solvers/ray_field.h"
 
 namespace certray::solvers {
 
@@ -26,81 +27,10 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-using D1 = Dual<Interval, 1>;
-
-/// g and g′ over parameter intervals, computed in the enclosure type E and rounded outward to
-/// double intervals (the identity for E = Interval). One per thread: it owns the evaluators.
-/// (The same as certified.cpp's; a shared header can take both once that file settles.)
-template <class E>
-struct Field {
-    using DE = Dual<E, 1>;
-    expr::Evaluator<E> value;
-    expr::Evaluator<DE> dual;
-    expr::Evaluator<Affine<1>> affine;
-
-    static E lift(const Interval& x) {
-        if constexpr (std::is_same_v<E, Interval>) {
-            return x;
-        } else {
-            if (x.is_empty()) return E::empty();
-            E r(x.lower(), x.upper());
-            r.defined = x.defined;
-            return r;
-        }
-    }
-    static Interval drop(const E& x) {
-        if constexpr (std::is_same_v<E, Interval>) {
-            return x;
-        } else {
-            if (x.is_empty()) return Interval::empty();
-            Interval r(x.lower(), x.upper());
-            r.defined = x.defined;
-            return r;
-        }
-    }
-
-    /// G(T) ⊇ {g(t) : t ∈ T}; defined only if g is defined and continuous on all of T.
-    Interval g(const expr::Tape& tape, const Ray& ray, const Interval& t) {
-        std::array<E, 3> p;
-        const E tt = lift(t);
-        for (int i = 0; i < 3; ++i) p[i] = E(ray.o[i]) + tt * E(ray.d[i]);
-        return drop(value(tape, p));
-    }
-    /// v = G(T) intersected with the affine form of g in T's one noise symbol.
-    Interval refine_affine(const expr::Tape& tape, const Ray& ray, const Interval& t, Interval v) {
-        const Affine<1> s = Affine<1>::variable(t, 0);
-        std::array<Affine<1>, 3> q;
-        for (int i = 0; i < 3; ++i) q[i] = Affine<1>(ray.o[i]) + s * Affine<1>(ray.d[i]);
-        const Interval a = affine(tape, q).to_interval();
-        if (!a.is_empty() && !v.is_empty()) {
-            const bool defined = v.defined || a.defined;  // a fact about g, proven by either
-            v = intersect(v, a);
-            v.defined = defined && !v.is_empty();
-        }
-        return v;
-    }
-    /// G(T) and G′(T).
-    D1 g_dual(const expr::Tape& tape, const Ray& ray, const Interval& t) {
-        std::array<DE, 3> p;
-        const E tt = lift(t);
-        for (int i = 0; i < 3; ++i) p[i] = DE(E(ray.o[i]) + tt * E(ray.d[i]), {E(ray.d[i])});
-        const DE r = dual(tape, p);
-        return D1(drop(r.a), {drop(r.v[0])});
-    }
-};
-
-/// Scratch space of one thread: the field evaluators and the stack of intervals to examine.
-template <class E>
-struct Scratch {
-    Field<E> field;
-    std::vector<Interval> stack;
-};
-
-/// Whether [a, b] can still be split: its midpoint lies strictly inside.
-bool splittable(double a, double b) {
-    const double m = midpoint(Interval(a, b));
-    return a < m && m < b;
-}
+using detail::D1;
+using detail::Field;
+using detail::Scratch;
+using detail::splittable;
 
 /// g ≥ 0 proven on the whole box: the enclosure is defined and its lower bound is ≥ 0.
 bool proven_nonneg(const Interval& v) { return !v.is_empty() && v.defined && v.lower() >= 0; }
