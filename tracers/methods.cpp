@@ -108,7 +108,11 @@ RayFunction make_lipschitz_tracer(const expr::Tape& tape, const MethodOptions& o
             lambda = expr::lipschitz_bound(tape, box);
             extra = 1;
         }
-        RayResult res = trace(tape, ray, lambda, topt);
+        // No usable global bound (a jump, a clamp without distance semantics, an unbounded
+        // derivative): sphere tracing cannot step; segment tracing's local bounds along the ray
+        // can, and never step past the first root either.
+        RayResult res = std::isfinite(lambda) && lambda > 0 ? trace(tape, ray, lambda, topt)
+                                                            : segment_trace(tape, ray, topt);
         res.evals.gradient += extra;
         return res;
     };
@@ -185,7 +189,8 @@ const std::vector<Entry>& entries() {
         {{"sphere",
           false,
           "sphere tracing (Hart 1996) with a proven global Lipschitz bound from the DAG (over "
-          "--bounds, else over each ray's segment); never steps past the first root",
+          "--bounds, else over each ray's segment); where no finite bound exists, segment "
+          "tracing; never steps past the first root",
           {"epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {

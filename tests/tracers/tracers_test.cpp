@@ -17,6 +17,7 @@
 #include "tests/support/generators.h"
 #include "tests/support/random_dag.h"
 #include "tracers/march.h"
+#include "tracers/methods.h"
 #include "tracers/segment_trace.h"
 #include "tracers/sphere_trace.h"
 
@@ -60,6 +61,17 @@ TEST(Tracers, UnitSphereHitAtTwo) {
     EXPECT_LE(m.t_lo, 2.0);
     EXPECT_GE(m.t_hi, 2.0);
     EXPECT_LE(m.t_hi - m.t_lo, o.epsilon);
+}
+
+TEST(Tracers, SphereTracingWithoutAFiniteBoundFallsBackToSegments) {
+    // √|z| − ½ has no finite Lipschitz bound on a box holding z = 0 (its derivative is unbounded
+    // there): sphere tracing takes segment tracing's local bounds and finds the zero |z| = ¼ from
+    // (0, 0, −3) along +z at t = 2.75, instead of stopping with no step.
+    const Tape t = tape_of("sqrt(abs(z)) - 0.5");
+    const RayFunction sphere = make_method("sphere", t, MethodOptions{});
+    const RayResult r = sphere(Ray{{0, 0, -3}, {0, 0, 1}, 0, 6});
+    ASSERT_EQ(r.status, Status::Hit);
+    EXPECT_NEAR(r.t, 2.75, 1e-5);
 }
 
 TEST(Tracers, TorusHitAndHoleMiss) {
