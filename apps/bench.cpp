@@ -450,8 +450,12 @@ int run_bench(const BenchOptions& options) {
     std::size_t total = 0;
     for (const Scene& s : st.gallery) total += s.rays.size() * (1 + st.gallery_configs.size());
     for (const Scene& s : st.stress) total += s.rays.size() * st.stress_configs.size();
-    const bool bar = o.progress < 0 ? isatty(2) != 0 : o.progress > 0;
-    Progress progress(bar, total);
+    // --progress: a bar; --no-progress: nothing; else a bar on a terminal, lines elsewhere.
+    const Progress::Mode mode = o.progress == 0  ? Progress::Mode::Off
+                                : o.progress > 0 ? Progress::Mode::Bar
+                                : isatty(2) != 0 ? Progress::Mode::Bar
+                                                 : Progress::Mode::Lines;
+    Progress progress(mode, total);
     for (Scene& s : st.gallery) compute_references(s, threads, progress);
     run_suite(st.gallery_configs, st.gallery, o, threads, st, progress);
     run_suite(st.stress_configs, st.stress, o, threads, st, progress);

@@ -146,26 +146,44 @@ void parallel_for(unsigned threads, std::size_t n, F&& f) {
     });
 }
 
-/// The progress bar on stderr.
+/// Progress on stderr: a bar on a terminal; elsewhere (a file, a pipe, CI) a line with the
+/// percentage, the rate and the time left at most every 5 s; nothing when off.
 class Progress {
   public:
-    Progress(bool on, std::size_t total) : on_(on), total_(std::max<std::size_t>(1, total)) {}
+    enum class Mode { Off, Bar, Lines };
+    Progress(Mode mode, std::size_t total)
+        : mode_(mode),
+          total_(std::max<std::size_t>(1, total)),
+          start_(std::chrono::steady_clock::now()),
+          last_(start_) {}
     void add(std::size_t n, const std::string& what) {
         done_ += n;
-        if (!on_) return;
         const double f = std::min(1.0, static_cast<double>(done_) / static_cast<double>(total_));
-        const int w = 30, k = static_cast<int>(f * w);
-        std::fprintf(stderr, "\r[%s%s] %3.0f%% %-40.40s", std::string(k, '#').c_str(),
-                     std::string(w - k, '.').c_str(), 100 * f, what.c_str());
-        std::fflush(stderr);
+        if (mode_ == Mode::Bar) {
+            const int w = 30, k = static_cast<int>(f * w);
+            std::fprintf(stderr, "\r[%s%s] %3.0f%% %-40.40s", std::string(k, '#').c_str(),
+                         std::string(w - k, '.').c_str(), 100 * f, what.c_str());
+            std::fflush(stderr);
+        } else if (mode_ == Mode::Lines) {
+            const auto now = std::chrono::steady_clock::now();
+            if (now - last_ < std::chrono::seconds(5) && done_ < total_) return;
+            last_ = now;
+            const double s = std::chrono::duration<double>(now - start_).count();
+            const double left = f > 0 ? s * (1 - f) / f : 0.0;
+            std::fprintf(stderr,
+                         "certray bench: %3.0f%% (%zu of %zu ray runs, %.0f/s), %.0f s left: %s\n",
+                         100 * f, done_, total_, s > 0 ? static_cast<double>(done_) / s : 0.0, left,
+                         what.c_str());
+        }
     }
     void finish() {
-        if (on_) std::fprintf(stderr, "\n");
+        if (mode_ == Mode::Bar) std::fprintf(stderr, "\n");
     }
 
   private:
-    bool on_;
+    Mode mode_;
     std::size_t total_, done_ = 0;
+    std::chrono::steady_clock::time_point start_, last_;
 };
 
 // ---- the peers (apps/bench_peers.cpp): the literature's numbers beside ours ------------------
