@@ -17,6 +17,7 @@
 #include "solvers/certified.h"
 #include "solvers/closed_form.h"
 #include "solvers/exact.h"
+#include "solvers/polynomial_check.h"
 
 namespace certray::solvers {
 namespace {
@@ -91,78 +92,56 @@ RayResult solve_piece(const P& g, double a, double b, AnalyticOptions::Mode mode
     return first_root_bernstein(std::span<const Interval>(coeffs), a, b);
 }
 
+/// The analytic methods' rule: g is piecewise polynomial along every ray when every op but the
+/// polynomial ones (and min, max, abs, split where they switch) sees only constants, and every
+/// divisor is constant.
+OpRule piecewise_polynomial_rule(expr::Op op) {
+    switch (op) {
+        case expr::Op::Sqrt:
+        case expr::Op::Exp:
+        case expr::Op::Log:
+        case expr::Op::Sin:
+        case expr::Op::Cos:
+        case expr::Op::Floor:
+        case expr::Op::Ceil:
+        case expr::Op::Round:
+        case expr::Op::Tan:
+        case expr::Op::Asin:
+        case expr::Op::Acos:
+        case expr::Op::Atan:
+        case expr::Op::Recip:
+        case expr::Op::Not:
+            return {Along::Refused, Along::Refused};
+        case expr::Op::Atan2:
+        case expr::Op::Compare:
+        case expr::Op::Mod:
+        case expr::Op::And:
+        case expr::Op::Or:
+            return {Along::Refused, Along::Refused};
+        case expr::Op::Div:
+            return {Along::Passes, Along::Refused};
+        case expr::Op::Const:
+        case expr::Op::VarX:
+        case expr::Op::VarY:
+        case expr::Op::VarZ:
+        case expr::Op::Neg:
+        case expr::Op::Abs:
+        case expr::Op::Square:
+        case expr::Op::Add:
+        case expr::Op::Sub:
+        case expr::Op::Mul:
+        case expr::Op::Min:
+        case expr::Op::Max:
+        case expr::Op::Pow:
+            return {};
+    }
+    return {Along::Never, Along::Never};
+}
+
 }  // namespace
 
 std::string why_not_polynomial(const expr::Tape& tape) {
-    const std::vector<expr::Instr>& ssa = tape.ssa();
-    std::vector<char> varying(ssa.size(), 0);
-    for (std::size_t i = 0; i < ssa.size(); ++i) {
-        const expr::Instr& in = ssa[i];
-        const int n = expr::arity(in.op);
-        const bool va = n >= 1 && varying[in.a];
-        const bool vb = n >= 2 && in.op != expr::Op::Pow && varying[in.b];
-        switch (in.op) {
-            case expr::Op::VarX:
-            case expr::Op::VarY:
-            case expr::Op::VarZ:
-                varying[i] = 1;
-                break;
-            case expr::Op::Sqrt:
-            case expr::Op::Exp:
-            case expr::Op::Log:
-            case expr::Op::Sin:
-            case expr::Op::Cos:
-            case expr::Op::Floor:
-            case expr::Op::Ceil:
-            case expr::Op::Round:
-            case expr::Op::Tan:
-            case expr::Op::Asin:
-            case expr::Op::Acos:
-            case expr::Op::Atan:
-            case expr::Op::Not:
-                if (va) {
-                    return std::string(expr::name(in.op)) + " of a non-constant (instruction " +
-                           std::to_string(i + 1) + " of " + std::to_string(ssa.size()) + ")";
-                }
-                break;
-            case expr::Op::Recip:
-                if (va) {
-                    return "recip of a non-constant (instruction " + std::to_string(i + 1) +
-                           " of " + std::to_string(ssa.size()) + ")";
-                }
-                break;
-            case expr::Op::Atan2:
-            case expr::Op::Compare:
-            case expr::Op::Mod:
-            case expr::Op::And:
-            case expr::Op::Or:
-                if (va || vb) {
-                    return std::string(expr::name(in.op)) + " of a non-constant (instruction " +
-                           std::to_string(i + 1) + " of " + std::to_string(ssa.size()) + ")";
-                }
-                break;
-            case expr::Op::Div:
-                if (vb) {
-                    return "division by a non-constant (instruction " + std::to_string(i + 1) +
-                           " of " + std::to_string(ssa.size()) + ")";
-                }
-                varying[i] = va;
-                break;
-            case expr::Op::Const:
-            case expr::Op::Neg:
-            case expr::Op::Abs:
-            case expr::Op::Square:
-            case expr::Op::Add:
-            case expr::Op::Sub:
-            case expr::Op::Mul:
-            case expr::Op::Min:
-            case expr::Op::Max:
-            case expr::Op::Pow:
-                varying[i] = va || vb;
-                break;
-        }
-    }
-    return {};
+    return why_not_along(tape, &piecewise_polynomial_rule);
 }
 
 namespace {
@@ -250,14 +229,10 @@ RayResult analytic_search(const expr::Tape& tape, const Ray& ray, const Analytic
 RayResult analytic_first_root(const expr::Tape& tape, const Ray& ray,
                               const AnalyticOptions& options) {
     NearestScope env;  // sound in any caller's floating-point environment
-    RayResult r = analytic_search(tape, ray, options);
+    const RayResult r = analytic_search(tape, ray, options);
     // Certified (Bernstein) answers that floating point left undecided, or wider than 4 ulps,
     // re-decided by the exact oracle on a polynomial scene, as certified_first_root does.
-    double four_ulps = r.t_lo;
-    for (int i = 0; i < 4; ++i) four_ulps = std::nextafter(four_ulps, HUGE_VAL);
-    const bool wide = r.status == Status::Hit && four_ulps < r.t_hi;
-    if (options.mode != AnalyticOptions::Mode::Bernstein || !(r.status == Status::Unknown || wide))
-        return r;
+    if (options.mode != AnalyticOptions::Mode::Bernstein) return r;
     return exact_fallback(tape, ray, r, options.budget);
 }
 

@@ -29,15 +29,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 using detail::D1;
 using detail::Field;
 using detail::Scratch;
-using detail::splittable;
-
-/// Few ulps wide: the target width of a hit enclosure.
-bool narrow(double a, double b) {
-    const double scale = std::max(std::fabs(a), std::fabs(b));
-    double lim = scale;
-    for (int i = 0; i < 4; ++i) lim = std::nextafter(lim, std::numeric_limits<double>::infinity());
-    return !splittable(a, b) || (std::isfinite(b - a) && b - a <= lim - scale);
-}
 
 template <class E>
 class Solver {
@@ -161,13 +152,7 @@ Interval Solver<E>::newton(const Interval& t, const D1& gt, bool& unique) {
 
 template <class E>
 RayResult Solver<E>::finish(Status status, double lo, double hi) {
-    result_.status = status;
-    if (status != Status::Miss) {
-        result_.t_lo = lo;
-        result_.t_hi = hi;
-        result_.t = std::isfinite(hi) ? midpoint(Interval(lo, hi)) : lo;
-    }
-    return result_;
+    return detail::finish(result_, status, lo, hi);
 }
 
 // T holds a zero and nothing left of T does. Narrow T: by Newton while it contracts (a unique zero
@@ -390,15 +375,10 @@ RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
                                const CertifiedOptions& options) {
     NearestScope env;  // sound in any caller's floating-point environment (interval/interval.h)
     thread_local Scratch<Interval> scratch;
-    RayResult r = Solver<Interval>(tape, ray, options, scratch).solve();
-    if (r.status == Status::Miss ||
-        (r.status == Status::Hit &&
-         (!options.tighten || options.hit_width > 0 || narrow(r.t_lo, r.t_hi)))) {
-        return r;
-    }
-    // Undecided or wide: on a polynomial scene the exact oracle decides, within what is left of
-    // the budget (its evaluations added). It is never less certain than this answer.
-    return exact_fallback(tape, ray, r, options.budget);
+    const RayResult r = Solver<Interval>(tape, ray, options, scratch).solve();
+    // Undecided, or wide on a polynomial scene: the exact oracle decides, within what is left of
+    // the budget. A hit left wide on purpose (hit_width) stays as it is.
+    return exact_fallback(tape, ray, r, options.budget, options.tighten && options.hit_width <= 0);
 }
 
 RayResult certified_first_root_reference(const expr::Tape& tape, const Ray& ray,

@@ -18,6 +18,8 @@
 #include <utility>
 
 #include "interval/interval.h"
+#include "solvers/polynomial_check.h"
+#include "solvers/width.h"
 
 namespace certray::solvers {
 
@@ -523,65 +525,58 @@ void Search::run(const Ray& ray, const ExactPoly& g) {
 
 }  // namespace
 
-std::string why_not_exact_polynomial(const expr::Tape& tape) {
-    const std::vector<expr::Instr>& ssa = tape.ssa();
-    std::vector<char> varying(ssa.size(), 0);
-    auto where = [&](std::size_t i) {
-        return " (instruction " + std::to_string(i + 1) + " of " + std::to_string(ssa.size()) + ")";
-    };
-    for (std::size_t i = 0; i < ssa.size(); ++i) {
-        const expr::Instr& in = ssa[i];
-        const int n = expr::arity(in.op);
-        const bool va = n >= 1 && varying[in.a];
-        const bool vb = n >= 2 && in.op != expr::Op::Pow && varying[in.b];
-        switch (in.op) {
-            case expr::Op::VarX:
-            case expr::Op::VarY:
-            case expr::Op::VarZ:
-                varying[i] = 1;
-                break;
-            case expr::Op::Sqrt:
-            case expr::Op::Exp:
-            case expr::Op::Log:
-            case expr::Op::Sin:
-            case expr::Op::Cos:
-            case expr::Op::Floor:
-            case expr::Op::Ceil:
-            case expr::Op::Round:
-            case expr::Op::Tan:
-            case expr::Op::Asin:
-            case expr::Op::Acos:
-            case expr::Op::Atan:
-            case expr::Op::Recip:
-            case expr::Op::Not:
-            case expr::Op::Atan2:
-            case expr::Op::Compare:
-            case expr::Op::Mod:
-            case expr::Op::And:
-            case expr::Op::Or:
-                return std::string(expr::name(in.op)) + ", not a polynomial operation" + where(i);
-            case expr::Op::Div:
-                if (vb) return "division by a non-constant" + where(i);
-                varying[i] = va;
-                break;
-            case expr::Op::Abs:
-            case expr::Op::Min:
-            case expr::Op::Max:
-                if (va || vb)
-                    return std::string(expr::name(in.op)) + " of a non-constant" + where(i);
-                break;
-            case expr::Op::Const:
-            case expr::Op::Neg:
-            case expr::Op::Square:
-            case expr::Op::Add:
-            case expr::Op::Sub:
-            case expr::Op::Mul:
-            case expr::Op::Pow:
-                varying[i] = va || vb;
-                break;
-        }
+namespace {
+
+/// The exact oracle's rule: g is a polynomial with rational coefficients along every ray when only
+/// + − × square, integer powers, division by constants and abs/min/max of constants appear.
+/// (sqrt, exp, … are refused even of constants: their values are not rational.)
+OpRule exact_polynomial_rule(expr::Op op) {
+    switch (op) {
+        case expr::Op::Sqrt:
+        case expr::Op::Exp:
+        case expr::Op::Log:
+        case expr::Op::Sin:
+        case expr::Op::Cos:
+        case expr::Op::Floor:
+        case expr::Op::Ceil:
+        case expr::Op::Round:
+        case expr::Op::Tan:
+        case expr::Op::Asin:
+        case expr::Op::Acos:
+        case expr::Op::Atan:
+        case expr::Op::Recip:
+        case expr::Op::Not:
+        case expr::Op::Atan2:
+        case expr::Op::Compare:
+        case expr::Op::Mod:
+        case expr::Op::And:
+        case expr::Op::Or:
+            return {Along::Never, Along::Never};
+        case expr::Op::Div:
+            return {Along::Passes, Along::Refused};
+        case expr::Op::Abs:
+        case expr::Op::Min:
+        case expr::Op::Max:
+            return {Along::Refused, Along::Refused};
+        case expr::Op::Const:
+        case expr::Op::VarX:
+        case expr::Op::VarY:
+        case expr::Op::VarZ:
+        case expr::Op::Neg:
+        case expr::Op::Square:
+        case expr::Op::Add:
+        case expr::Op::Sub:
+        case expr::Op::Mul:
+        case expr::Op::Pow:
+            return {};
     }
-    return {};
+    return {Along::Never, Along::Never};
+}
+
+}  // namespace
+
+std::string why_not_exact_polynomial(const expr::Tape& tape) {
+    return why_not_along(tape, &exact_polynomial_rule);
 }
 
 bool is_polynomial(const expr::Tape& tape) {
@@ -710,8 +705,11 @@ RayResult exact_first_root(const expr::Tape& tape, const Ray& ray, const ExactOp
     return exact_root(tape, ray, options).result;
 }
 
-RayResult exact_fallback(const expr::Tape& tape, const Ray& ray, RayResult r,
-                         std::uint64_t budget) {
+RayResult exact_fallback(const expr::Tape& tape, const Ray& ray, RayResult r, std::uint64_t budget,
+                         bool tighten) {
+    const bool decided = r.status == Status::Miss ||
+                         (r.status == Status::Hit && (!tighten || narrow(r.t_lo, r.t_hi)));
+    if (decided) return r;
     const std::uint64_t spent = r.evals.total();
     if (spent >= budget || !is_polynomial(tape)) return r;
     ExactOptions exact;

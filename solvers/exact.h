@@ -81,9 +81,11 @@ RayResult exact_first_root(const expr::Tape& tape, const Ray& ray,
                            const ExactOptions& options = {});
 
 /// `r`, the answer of a certified floating-point search on `ray`, re-decided by the exact oracle
-/// when the tape is a polynomial, within what is left of `budget` (its evaluations added); `r`
-/// itself when the tape is not one, the budget is spent, or the oracle gives up. The fallback of
-/// certified_first_root and of the Bernstein method.
-RayResult exact_fallback(const expr::Tape& tape, const Ray& ray, RayResult r, std::uint64_t budget);
+/// when it is Unknown, or a Hit wider than 4 ulps (solvers/width.h, narrow) and `tighten`, and the
+/// tape is a polynomial, within what is left of `budget` (its evaluations added); `r` itself
+/// otherwise, or when the oracle gives up. The fallback of certified_first_root and of the
+/// Bernstein method.
+RayResult exact_fallback(const expr::Tape& tape, const Ray& ray, RayResult r, std::uint64_t budget,
+                         bool tighten = true);
 
 }  // namespace certray::solvers

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <type_traits>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "interval/interval.h"
 #include "interval/interval_pair.h"
 #include "solvers/ray.h"
+#include "solvers/width.h"
 
 namespace certray::solvers::detail {
 
@@ -136,10 +138,16 @@ struct Scratch {
     std::vector<Interval> stack;
 };
 
-/// Whether [a, b] can still be split: its midpoint lies strictly inside.
-inline bool splittable(double a, double b) {
-    const double m = midpoint(Interval(a, b));
-    return a < m && m < b;
+/// result with `status` and, unless it is a Miss, the enclosure [lo, hi] and a point t in it (its
+/// midpoint, or lo when hi is infinite): how both certified solvers end.
+inline RayResult finish(RayResult& result, Status status, double lo, double hi) {
+    result.status = status;
+    if (status != Status::Miss) {
+        result.t_lo = lo;
+        result.t_hi = hi;
+        result.t = std::isfinite(hi) ? midpoint(Interval(lo, hi)) : lo;
+    }
+    return result;
 }
 
 }  // namespace certray::solvers::detail

@@ -30,7 +30,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 using detail::D1;
 using detail::Field;
 using detail::Scratch;
-using detail::splittable;
 
 /// g ≥ 0 proven on the whole box: the enclosure is defined and its lower bound is ≥ 0.
 bool proven_nonneg(const Interval& v) { return !v.is_empty() && v.defined && v.lower() >= 0; }
@@ -99,13 +98,7 @@ class Solver {
 
 template <class E>
 RayResult Solver<E>::finish(Status status, double lo, double hi) {
-    result_.status = status;
-    if (status != Status::Miss) {
-        result_.t_lo = lo;
-        result_.t_hi = hi;
-        result_.t = std::isfinite(hi) ? midpoint(Interval(lo, hi)) : lo;
-    }
-    return result_;
+    return detail::finish(result_, status, lo, hi);
 }
 
 template <class E>

@@ -23,6 +23,7 @@
 #include "tests/support/generators.h"
 #include "tests/support/independent_oracle.h"
 #include "tests/support/random_dag.h"
+#include "tests/support/ray_checks.h"
 
 namespace certray::solvers {
 namespace {
@@ -30,25 +31,16 @@ namespace {
 using expr::Tape;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-Tape tape_of(const char* text) { return Tape(expr::parse_expr(text)); }
+using testing::tape_of;
+using testing::ulps;
 
 RayResult trace(const Tape& t, std::array<double, 3> o, std::array<double, 3> d, double tmin = 0,
                 double tmax = kInf) {
     return certified_first_root(t, Ray{o, d, tmin, tmax});
 }
 
-/// Width of [lo, hi] in ulps of hi.
-double ulps(double lo, double hi) {
-    double n = 0;
-    for (double x = lo; x < hi && n < 1e6; x = std::nextafter(x, kInf)) ++n;
-    return n;
-}
-
 void expect_hit_at(const RayResult& r, double root, double max_ulps = 8) {
-    ASSERT_EQ(r.status, Status::Hit) << "t_lo " << r.t_lo << " t_hi " << r.t_hi;
-    EXPECT_LE(r.t_lo, root);
-    EXPECT_GE(r.t_hi, root);
-    EXPECT_LE(ulps(r.t_lo, r.t_hi), max_ulps) << r.t_lo << " " << r.t_hi;
+    testing::expect_hit_at(r, root, max_ulps);
 }
 
 TEST(Certified, UnitSphereFromOutsideAndInside) {

@@ -21,6 +21,7 @@
 #include "expr/load.h"
 #include "expr/parser.h"
 #include "expr/tape.h"
+#include "solvers/analytic.h"
 #include "solvers/certified.h"
 
 namespace certray::solvers {
@@ -337,6 +338,27 @@ RC_GTEST_PROP(ExactProperty, RandomRootProducts, ()) {
         RC_ASSERT(mpq_class(res.result.t_hi) != *first);
     }
     RC_ASSERT(res.multiplicity == mult);
+}
+
+TEST(PolynomialCheck, BothRulesOverOneWalk) {
+    // The exact oracle takes + − × powers and division by constants; abs/min/max only of
+    // constants; sqrt and the other ops never, even of constants. The analytic methods also take
+    // abs/min/max of anything (split where they switch), and sqrt of constants. The SSA of
+    // "abs(x) - 1" is x, abs, 1, sub: the abs is instruction 2 of 4.
+    EXPECT_EQ(why_not_exact_polynomial(tape_of("x^3 - 2*x*y + z/4 - 1")), "");
+    EXPECT_EQ(why_not_exact_polynomial(tape_of("x * max(2, 3)")), "");
+    EXPECT_EQ(why_not_exact_polynomial(tape_of("x / (y + 1)")),
+              "division by a non-constant (instruction 5 of 5)");
+    EXPECT_EQ(why_not_exact_polynomial(tape_of("abs(x) - 1")),
+              "abs of a non-constant (instruction 2 of 4)");
+    EXPECT_NE(why_not_exact_polynomial(tape_of("x + sqrt(2)")).find("sqrt, not a polynomial"),
+              std::string::npos);
+    EXPECT_EQ(why_not_polynomial(tape_of("abs(x) - 1")), "");
+    EXPECT_EQ(why_not_polynomial(tape_of("x + sqrt(2)")), "");
+    EXPECT_EQ(why_not_polynomial(tape_of("sqrt(x) - 1")),
+              "sqrt of a non-constant (instruction 2 of 4)");
+    EXPECT_EQ(why_not_polynomial(tape_of("atan2(1, x) + z")).rfind("atan2 of a non-constant", 0),
+              0u);
 }
 
 }  // namespace

@@ -26,6 +26,7 @@
 #include "solvers/certified.h"
 #include "tests/support/generators.h"
 #include "tests/support/random_dag.h"
+#include "tests/support/ray_checks.h"
 
 namespace certray::solvers {
 namespace {
@@ -33,7 +34,8 @@ namespace {
 using expr::Tape;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-Tape tape_of(const char* text) { return Tape(expr::parse_expr(text)); }
+using testing::tape_of;
+using testing::ulps;
 
 RayResult solid(const Tape& t, std::array<double, 3> o, std::array<double, 3> d, double tmin = 0,
                 double tmax = kInf) {
@@ -44,18 +46,8 @@ RayResult zero(const Tape& t, std::array<double, 3> o, std::array<double, 3> d, 
     return certified_first_root(t, Ray{o, d, tmin, tmax});
 }
 
-/// Width of [lo, hi] in ulps (steps from lo to hi).
-double ulps(double lo, double hi) {
-    double n = 0;
-    for (double x = lo; x < hi && n < 1e6; x = std::nextafter(x, kInf)) ++n;
-    return n;
-}
-
 void expect_entry_at(const RayResult& r, double entry, double max_ulps = 4) {
-    ASSERT_EQ(r.status, Status::Hit) << name(r.status) << " t_lo " << r.t_lo << " t_hi " << r.t_hi;
-    EXPECT_LE(r.t_lo, entry);
-    EXPECT_GE(r.t_hi, entry);
-    EXPECT_LE(ulps(r.t_lo, r.t_hi), max_ulps) << r.t_lo << " " << r.t_hi;
+    testing::expect_hit_at(r, entry, max_ulps);
 }
 
 /// g at the point t in MPFR at `bits` bits.

@@ -1,0 +1,30 @@
+// solvers/width.h — how wide a parameter interval along a ray is, for the certified solvers.
+//
+// splittable: [a, b] still has a double strictly inside (its midpoint); narrow: [a, b] is at most
+// 4 ulps wide at its magnitude (4·ulp(max(|a|, |b|))), or cannot be split: the target width of a
+// certified hit enclosure (solvers/certified.cpp, solvers/analytic.cpp, solvers/exact.h).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "interval/interval.h"
+
+namespace certray::solvers {
+
+/// Whether [a, b] can still be split: its midpoint lies strictly inside.
+inline bool splittable(double a, double b) {
+    const double m = midpoint(Interval(a, b));
+    return a < m && m < b;
+}
+
+/// Few ulps wide: at most 4 ulps at the magnitude of the larger bound, or not splittable.
+inline bool narrow(double a, double b) {
+    const double scale = std::max(std::fabs(a), std::fabs(b));
+    double lim = scale;
+    for (int i = 0; i < 4; ++i) lim = std::nextafter(lim, std::numeric_limits<double>::infinity());
+    return !splittable(a, b) || (std::isfinite(b - a) && b - a <= lim - scale);
+}
+
+}  // namespace certray::solvers
