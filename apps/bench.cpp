@@ -233,7 +233,7 @@ std::vector<Scene> load_stress(const std::string& path) {
         auto it = index.find(f[1]);
         if (it == index.end()) {
             const fs::path file = dir / f[1];
-            Scene s{f[1], "stress", expr::Tape(expr::load_graph_file(file.string())), {}, {},
+            Scene s{f[1], "stress", expr::Tape(expr::load_graph_file(file.string())), {}, {}, {},
                     {},   {}};
             it = index.emplace(f[1], scenes.size()).first;
             scenes.push_back(std::move(s));
@@ -285,7 +285,7 @@ std::vector<Scene> load_gallery(const BenchOptions& o) {
     for (const fs::path& p : files) {
         expr::Tape tape(expr::load_graph_file(p.string()));
         if (!tape.uses_var(2) && o.scenes.empty()) continue;  // 2D: images, not ray queries
-        out.push_back({p.filename().string(), "gallery", std::move(tape), rays, {}, {}, {}});
+        out.push_back({p.filename().string(), "gallery", std::move(tape), rays, {}, {}, {}, {}});
     }
     return out;
 }

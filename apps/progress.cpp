@@ -14,15 +14,15 @@ namespace {
 constexpr double kLineEvery = 5.0;  ///< seconds between two progress lines
 constexpr auto kTick = std::chrono::milliseconds(200);
 
-double threshold_seconds() {
+}  // namespace
+
+double progress_threshold_seconds() {
     const char* env = std::getenv("CERTRAY_PROGRESS_SECONDS");
     if (env == nullptr || *env == '\0') return 2.0;
     char* end = nullptr;
     const double v = std::strtod(env, &end);
     return (*end == '\0' && v >= 0 && std::isfinite(v)) ? v : 2.0;
 }
-
-}  // namespace
 
 ProgressMode progress_mode_for_stderr(bool quiet) {
     if (quiet) return ProgressMode::Off;
@@ -34,7 +34,7 @@ ProgressReport::ProgressReport(std::string label, const tracers::WorkProgress& w
     : label_(std::move(label)),
       work_(work),
       mode_(mode),
-      threshold_(threshold_seconds()),
+      threshold_(progress_threshold_seconds()),
       start_(std::chrono::steady_clock::now()) {
     if (mode_ != ProgressMode::Off) thread_ = std::thread([this] { loop(); });
 }

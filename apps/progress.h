@@ -23,6 +23,10 @@ namespace certray::apps {
 /// How progress is shown.
 enum class ProgressMode { Off, Bar, Lines };
 
+/// Seconds before the first progress line off a terminal: CERTRAY_PROGRESS_SECONDS when it is a
+/// number ≥ 0, else 2.
+double progress_threshold_seconds();
+
 /// Off when `quiet`, a bar when stderr is a terminal, lines otherwise.
 ProgressMode progress_mode_for_stderr(bool quiet);
 

@@ -22,6 +22,7 @@
 #include <string_view>
 #include <thread>
 
+#include "apps/progress.h"
 #include "certray/certray.h"
 #include "expr/load.h"
 #include "expr/tape.h"
@@ -127,9 +128,9 @@ nlohmann::json make_stats(const QueryOptions& options, const tracers::MethodOpti
 std::vector<std::string> query_methods() { return tracers::method_names(); }
 
 int run_query(const QueryOptions& options) {
-    const std::string_view* now = tracers::renamed_method(options.method);
-    if (now && !options.quiet) {
-        std::cerr << "certray query: method '" << options.method << "' is now called '" << *now
+    const std::string_view* new_name = tracers::renamed_method(options.method);
+    if (new_name && !options.quiet) {
+        std::cerr << "certray query: method '" << options.method << "' is now called '" << *new_name
                   << "' (the old name still works)\n";
     }
     tracers::MethodOptions knobs;
@@ -161,14 +162,15 @@ int run_query(const QueryOptions& options) {
     const bool tty = isatty(STDERR_FILENO) != 0;
     const auto start = std::chrono::steady_clock::now();
     bool printed = false;
+    // A bar on a terminal; elsewhere a line every 5 s for runs longer than the threshold (2 s, or
+    // CERTRAY_PROGRESS_SECONDS), as for render.
+    const double threshold = tty ? 1.0 : progress_threshold_seconds();
+    auto last = start;
     if (!options.quiet) {
-        // A bar on a terminal; elsewhere a line every 5 s for runs longer than 2 s.
-        auto last = start;
         q.progress = [&](std::size_t done, std::size_t n) {
             const auto now = std::chrono::steady_clock::now();
             const double elapsed = std::chrono::duration<double>(now - start).count();
-            if (elapsed < (tty ? 1.0 : 2.0) ||
-                (done < n && !tty && now - last < std::chrono::seconds(5)))
+            if (elapsed < threshold || (done < n && !tty && now - last < std::chrono::seconds(5)))
                 return;
             last = now;
             const double pct =
@@ -188,10 +190,12 @@ int run_query(const QueryOptions& options) {
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
+    const HitsKind kind = tracers::method_info(options.method).certified ? HitsKind::Certified
+                                                                         : HitsKind::Approximate;
     if (hits) {
-        write_hits_csv(hits->stream(), results);
+        write_hits_csv(hits->stream(), results, kind);
     } else {
-        write_hits_csv(std::cout, results);
+        write_hits_csv(std::cout, results, kind);
         std::cout.flush();
     }
     if (stats) {

@@ -202,8 +202,9 @@ void append_double(std::string& out, double v) {
     out.append(buf.data(), ec == std::errc() ? ptr : buf.data());
 }
 
-void write_hits_csv(std::ostream& out, const std::vector<RayResult>& results) {
-    std::string text = "status,t_lo,t_hi,t\n";
+void write_hits_csv(std::ostream& out, const std::vector<RayResult>& results, HitsKind kind) {
+    const bool approximate = kind == HitsKind::Approximate;
+    std::string text = approximate ? "status,t_lo,t_hi,t,proven\n" : "status,t_lo,t_hi,t\n";
     for (const RayResult& r : results) {
         text += name(r.status);
         text += ',';
@@ -212,7 +213,7 @@ void write_hits_csv(std::ostream& out, const std::vector<RayResult>& results) {
         append_double(text, r.t_hi);
         text += ',';
         append_double(text, r.t);
-        text += '\n';
+        text += approximate ? ",0\n" : "\n";
         if (text.size() >= (1u << 16)) {
             out.write(text.data(), static_cast<std::streamsize>(text.size()));
             text.clear();

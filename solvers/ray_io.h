@@ -7,7 +7,9 @@
 //   naming the line, the column and the field. Blank lines are skipped.
 //   HITS.csv: the header `status,t_lo,t_hi,t`, then one line per ray in input order; numbers are
 //   printed in the shortest form that parses back (std::from_chars) to the same double, NaN as
-//   `nan` (a Miss reads `miss,nan,nan,nan`).
+//   `nan` (a Miss reads `miss,nan,nan,nan`). An approximate method's file says so in its header:
+//   `status,t_lo,t_hi,t,proven`, each line ending in `,0` (nothing on it is proven); a certified
+//   method's file keeps the four columns (its hit and miss lines are proven, unknown says not).
 #pragma once
 
 #include <cstddef>
@@ -33,8 +35,13 @@ std::vector<Ray> read_rays_csv(std::istream& in, std::string_view filename);
 /// or read, and as read_rays_csv otherwise.
 std::vector<Ray> read_rays_csv_file(const std::string& path);
 
+/// How a hits file marks what its answers are: a certified method's answers are proven (the four
+/// columns of the contract), an approximate method's are not (a fifth column `proven`, all 0).
+enum class HitsKind { Certified, Approximate };
+
 /// Writes HITS.csv for `results` (in order) to `out`. Does not check the stream; the caller does.
-void write_hits_csv(std::ostream& out, const std::vector<RayResult>& results);
+void write_hits_csv(std::ostream& out, const std::vector<RayResult>& results,
+                    HitsKind kind = HitsKind::Certified);
 
 /// Appends the shortest round-trip text of `v` to `out` (`nan` for any NaN, `inf`, `-inf`).
 void append_double(std::string& out, double v);

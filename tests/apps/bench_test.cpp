@@ -110,6 +110,19 @@ class BenchTest : public ::testing::Test {
     BenchOptions opts_;
 };
 
+TEST_F(BenchTest, ProgressLinesWhenStderrIsNotATerminal) {
+    opts_.progress = -1;                   // the default: a bar on a terminal, lines elsewhere
+    ::testing::internal::CaptureStderr();  // stderr becomes a file
+    const int code = run_bench(opts_);
+    const std::string err = ::testing::internal::GetCapturedStderr();
+    ASSERT_EQ(code, 0) << err;
+    // The last ray run prints its line however short the run: percentage, counts, rate, time left.
+    EXPECT_NE(err.find("certray bench: 100% ("), std::string::npos) << err;
+    EXPECT_NE(err.find(" ray runs, "), std::string::npos) << err;
+    EXPECT_NE(err.find(" s left: "), std::string::npos) << err;
+    EXPECT_EQ(err.find('\r'), std::string::npos) << err;
+}
+
 TEST_F(BenchTest, CertifiedIsExactAndBrokenTracerIsCaught) {
     ASSERT_EQ(run_bench(opts_), 0);
     std::vector<std::string> head;

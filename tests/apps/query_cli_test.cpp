@@ -142,6 +142,46 @@ TEST_F(QueryCli, StatsJsonCountsEveryRay) {
     EXPECT_EQ(slurp(path("one.csv")), slurp(path("hits.csv")));
 }
 
+TEST_F(QueryCli, ApproximateMethodsMarkTheirAnswersNotProven) {
+    write("rays.csv", std::string(kHeader) + "0,0,-3,0,0,1,0,10\n0,0,-3,0,0,-1,0,10\n");
+    ASSERT_EQ(run("query sphere.expr --rays rays.csv --method sphere --out hits.csv"), 0) << err_;
+    std::istringstream in(slurp(path("hits.csv")));
+    std::string line;
+    ASSERT_TRUE(std::getline(in, line));
+    EXPECT_EQ(line, "status,t_lo,t_hi,t,proven");
+    // Sphere tracing from (0, 0, -3) along +z stops near the sphere at t = 2, along -z misses.
+    ASSERT_TRUE(std::getline(in, line));
+    ASSERT_EQ(line.substr(0, 4), "hit,") << line;
+    EXPECT_EQ(line.substr(line.size() - 2), ",0") << line;
+    const auto first = line.find(',', 4);
+    EXPECT_NEAR(parse_double(line.substr(4, first - 4)), 2.0, 1e-6) << line;
+    ASSERT_TRUE(std::getline(in, line));
+    EXPECT_EQ(line, "miss,nan,nan,nan,0");
+    EXPECT_FALSE(std::getline(in, line));
+}
+
+TEST_F(QueryCli, ProgressLinesWhenStderrIsAFile) {
+    std::string rays = kHeader;
+    for (int i = 0; i < 50; ++i) rays += "0,0,-3,0,0,1,0,10\n";
+    write("rays.csv", rays);
+    // Shorter than the threshold (2 s): nothing on stderr.
+    ASSERT_EQ(run("query sphere.expr --rays rays.csv --method certified --out hits.csv"), 0);
+    EXPECT_TRUE(err_.empty()) << err_;
+    // Threshold 0: lines, not a bar, ending with every ray done.
+    setenv("CERTRAY_PROGRESS_SECONDS", "0", 1);
+    const int code = run("query sphere.expr --rays rays.csv --method certified --out hits.csv");
+    const std::string with_lines = err_;
+    EXPECT_EQ(run("query sphere.expr --rays rays.csv --method certified --out hits.csv --quiet"),
+              0);
+    const std::string quiet = err_;
+    unsetenv("CERTRAY_PROGRESS_SECONDS");
+    ASSERT_EQ(code, 0) << with_lines;
+    EXPECT_NE(with_lines.find("certray query: 50 / 50 rays (100%)"), std::string::npos)
+        << with_lines;
+    EXPECT_EQ(with_lines.find('\r'), std::string::npos) << with_lines;
+    EXPECT_TRUE(quiet.empty()) << quiet;
+}
+
 TEST_F(QueryCli, EmptyRayFileGivesHeaderOnly) {
     write("rays.csv", kHeader);
     ASSERT_EQ(run("query sphere.expr --rays rays.csv --method certified --out hits.csv "

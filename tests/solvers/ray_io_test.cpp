@@ -279,6 +279,16 @@ TEST(WriteHits, MissRowsAndShortestForms) {
     EXPECT_EQ(out.str(), "status,t_lo,t_hi,t\nmiss,nan,nan,nan\nhit,1.9999999999999998,2,-0\n");
 }
 
+TEST(WriteHits, ApproximateAnswersSaySoInTheHeaderAndOnEveryLine) {
+    std::vector<RayResult> results(2);
+    results[0].status = Status::Miss;
+    results[1].status = Status::Hit;
+    results[1].t_lo = results[1].t_hi = results[1].t = 0.5;
+    std::ostringstream out;
+    write_hits_csv(out, results, HitsKind::Approximate);
+    EXPECT_EQ(out.str(), "status,t_lo,t_hi,t,proven\nmiss,nan,nan,nan,0\nhit,0.5,0.5,0.5,0\n");
+}
+
 TEST(WriteHits, EmptyGivesHeaderOnly) {
     std::ostringstream out;
     write_hits_csv(out, {});
