@@ -75,11 +75,12 @@ tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {
                                         Interval(ro.bounds[1][0], ro.bounds[1][1]),
                                         Interval(ro.bounds[2][0], ro.bounds[2][1])};
     const std::string_view name = info.name;  // an old name resolved
-    if (name == "certified" && mo.surface == tracers::Surface::Zero && (s.coherent || s.ortho)) {
+    if (name == "certified" && (s.coherent || s.ortho)) {
         NearestScope env;
         tracers::CoherentOptions co;
         co.render = ro;
         co.projection = s.ortho ? tracers::Projection::Ortho : tracers::Projection::Pinhole;
+        co.surface = mo.surface;
         co.certified.budget = mo.budget;
         if (mo.tighten != 0) {  // asked for: 4-ulp hits, as the per-ray method gives
             co.certified.tighten = true;
@@ -90,7 +91,7 @@ tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {
     if (s.ortho) {
         throw std::invalid_argument(
             "the orthographic camera is drawn by the coherent certified renderer: use the method "
-            "certified on the zero surface");
+            "certified");
     }
     const tracers::RayFunction fn = tracers::make_method(s.method, scene.tape(), mo);
     return tracers::render_3d(scene.tape(), fn, ro);

@@ -174,14 +174,15 @@ int main(int argc, char** argv) {
                      ".expr and .txt)")
         ->check(CLI::IsMember({"zero", "solid"}));
     cmd_render
-        ->add_option("--camera", render.camera,
-                     "pinhole (default; auto-framed, or --eye/--target/--up/--fov) or ortho: an "
-                     "orthographic heightmap, one ray per pixel along -z over the bounds (the "
-                     "setting of libfive's and Fidget's 3D timings; certified, zero surface)")
+        ->add_option(
+            "--camera", render.camera,
+            "pinhole (default; auto-framed, or --eye/--target/--up/--fov) or ortho: an "
+            "orthographic heightmap, one ray per pixel along -z over the bounds (the "
+            "setting of libfive's and Fidget's 3D timings; method certified, either surface)")
         ->check(CLI::IsMember({"pinhole", "ortho"}));
     cmd_render->add_flag("--per-ray", render.per_ray,
                          "Certified images by one independent ray per pixel instead of the "
-                         "coherent renderer (same answers; for comparison)");
+                         "coherent renderer (the same meaning; for comparison)");
     cmd_render->add_option("--eye", render.eye, "Camera position X Y Z (default: auto-framed)")
         ->expected(3);
     cmd_render->add_option("--target", render.target, "Point the camera looks at, X Y Z")

@@ -358,10 +358,9 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
                      "--eye, --target, --up or --fov\n";
         return 2;
     }
-    if (rs.ortho && (tracers::method_info(method).name != "certified" ||
-                     *rs.surface != tracers::Surface::Zero)) {
+    if (rs.ortho && tracers::method_info(method).name != "certified") {
         std::cerr << "certray render: --camera ortho is drawn by the coherent certified renderer: "
-                     "use --method certified --surface zero\n";
+                     "use --method certified\n";
         return 2;
     }
     if (o.budget) rs.knobs.values.emplace_back("budget", static_cast<double>(*o.budget));

@@ -77,6 +77,28 @@ template <std::size_t Stride>
     return kBoth;
 }
 
+/// On a pruned list (slots 0 … count − 1, each written before it is read): every max(x, −x),
+/// seen through copies (min(y, y)), becomes |x| (see prune.h).
+void absolute_values(std::vector<Instr>& out, std::uint32_t count, PruneWorkspace& ws) {
+    // Every slot is written before it is read, so neither table needs clearing first.
+    if (ws.alias.size() < count) ws.alias.resize(count);
+    if (ws.neg_of.size() < count) ws.neg_of.resize(count);
+    std::uint32_t* alias = ws.alias.data();
+    std::uint32_t* neg_of = ws.neg_of.data();
+    for (Instr& in : out) {
+        const bool copy = in.op == Op::Min && in.a == in.b;
+        alias[in.out] = copy ? alias[in.a] : in.out;
+        neg_of[in.out] = copy ? neg_of[in.a] : (in.op == Op::Neg ? alias[in.a] : kNone);
+        if (in.op != Op::Max) continue;
+        const std::uint32_t x = alias[in.a], y = alias[in.b];
+        if (neg_of[y] == x) {
+            in = Instr{Op::Abs, in.out, in.a, 0, 0.0};
+        } else if (neg_of[x] == y) {
+            in = Instr{Op::Abs, in.out, in.b, 0, 0.0};
+        }
+    }
+}
+
 /// prune_ssa with the stride of `values` known at compile time (0: read `stride`).
 template <std::size_t Stride>
 bool prune_walk(const std::vector<Instr>& ssa, const UpInterval* values, PruneWorkspace& ws,
@@ -132,6 +154,7 @@ bool prune_walk(const std::vector<Instr>& ssa, const UpInterval* values, PruneWo
     }
     if (!changed) return false;
     out.assign(emitted + pos, emitted + n);
+    if (ws.absolute_values) absolute_values(out, count, ws);
     return true;
 }
 
@@ -162,6 +185,7 @@ PruneResult prune(const Tape& tape, const std::array<Interval, 3>& box) {
     result.before = n;
     result.value = Interval(v[n - 1]);
     PruneWorkspace ws;
+    ws.absolute_values = true;
     std::vector<Instr> out;
     if (!prune_ssa(ssa, v.data(), ws, out)) {
         result.tape = tape;

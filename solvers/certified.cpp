@@ -69,18 +69,9 @@ class Solver {
     /// bounded away from 0). One more interval evaluation, counted, and only then.
     bool excluded(const Interval& t, const Interval& v) {
         if (!possibly_zero(v)) return true;
-        if (v.defined || !divides()) return false;
+        if (v.defined || !s_.field.divides(tape_)) return false;
         ++result_.evals.interval;
         return !possibly_zero(s_.field.g_pair(tape_, ray_, t));
-    }
-    /// Whether the tape has a division (computed once per ray, when first asked).
-    bool divides() {
-        if (divides_ < 0) {
-            divides_ = 0;
-            for (const expr::Instr& in : tape_.instrs())
-                if (in.op == expr::Op::Div) divides_ = 1;
-        }
-        return divides_ == 1;
     }
     /// G(T) and G'(T) at once.
     D1 g_dual(const Interval& t) {
@@ -112,7 +103,6 @@ class Solver {
     const CertifiedOptions& options_;
     Scratch<E>& s_;
     RayResult result_;
-    int divides_ = -1;
 };
 
 template <class E>

@@ -8,6 +8,7 @@
 // division splits. One Field per thread: it owns the evaluators and their registers.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <type_traits>
@@ -37,6 +38,16 @@ struct Field {
     expr::Evaluator<IntervalPair> pair;
     std::vector<UpInterval> up_regs;            ///< registers of g (E = Interval)
     std::vector<Dual<UpInterval, 1>> up_duals;  ///< registers of g_dual (E = Interval)
+
+    /// Whether `tape` divides (has poles for g_pair to see past); remembered for the last tape.
+    bool divides(const expr::Tape& tape) {
+        if (tape.serial() == 0 || tape.serial() != divides_serial_) {
+            divides_ = std::any_of(tape.instrs().begin(), tape.instrs().end(),
+                                   [](const expr::Instr& in) { return in.op == expr::Op::Div; });
+            divides_serial_ = tape.serial();
+        }
+        return divides_;
+    }
 
     static E lift(const Interval& x) {
         if constexpr (std::is_same_v<E, Interval>) {
@@ -98,6 +109,12 @@ struct Field {
         }
         return v;
     }
+
+  private:
+    std::uint64_t divides_serial_ = 0;
+    bool divides_ = false;
+
+  public:
     /// g over T as a union of at most two intervals (interval/interval_pair.h), in double
     /// intervals whatever E is: ⊇ {g(t) : t ∈ T, g defined at t}.
     IntervalPair g_pair(const expr::Tape& tape, const Ray& ray, const Interval& t) {

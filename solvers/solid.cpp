@@ -33,6 +33,11 @@ using detail::Scratch;
 
 /// g ≥ 0 proven on the whole box: the enclosure is defined and its lower bound is ≥ 0.
 bool proven_nonneg(const Interval& v) { return !v.is_empty() && v.defined && v.lower() >= 0; }
+/// No point of the box is in the solid {f < 0} = {p : f(p) defined and < 0}: the enclosure (of
+/// f at the points of the box where it is defined) is empty or has lower bound ≥ 0. Points where f
+/// is undefined — a pole, a square root of a negative — are not interior, as they are not zeros
+/// for the zero surface (docs/theory/solid.md).
+bool outside(const Interval& v) { return v.is_empty() || v.lower() >= 0; }
 /// g < 0 proven on the whole box.
 bool proven_neg(const Interval& v) { return !v.is_empty() && v.defined && v.upper() < 0; }
 /// g defined on the box, with both signs in the enclosure: undecided by rounding, not by f.
@@ -59,6 +64,13 @@ class Solver {
             std::isfinite(t.lower()) && std::isfinite(t.upper())) {
             ++result_.evals.interval;
             v = s_.field.refine_affine(tape_, ray_, t, v);
+        }
+        if (!outside(v) && !proven_neg(v) && !v.defined && s_.field.divides(tape_)) {
+            // A pole inside T makes the ordinary enclosure the whole line; the two-piece one sees
+            // past it (interval/interval_pair.h).
+            ++result_.evals.interval;
+            const IntervalPair w = s_.field.g_pair(tape_, ray_, t);
+            if (w.is_empty() || (outside(w.p[0]) && outside(w.p[1]))) return w.hull();
         }
         return v;
     }
@@ -142,7 +154,7 @@ RayResult Solver<E>::solve() {
         // g is the constant f(o).
         const Interval v = g_at(0.0);
         if (proven_neg(v)) return finish(Status::Hit, ray_.tmin, ray_.tmin);
-        if (proven_nonneg(v)) return finish(Status::Miss, 0, 0);
+        if (outside(v)) return finish(Status::Miss, 0, 0);
         return finish(Status::Unknown, ray_.tmin, ray_.tmax);
     }
     std::vector<Interval>& stack = s_.stack;
@@ -164,13 +176,9 @@ RayResult Solver<E>::solve() {
         Interval t = stack.back();
         stack.pop_back();
         const Interval gt = g(t);
-        if (proven_nonneg(gt)) continue;
-        if (proven_neg(gt)) {  // g < 0 on all of T, at its left end in particular
+        if (outside(gt)) continue;  // f undefined on all of T (empty) included
+        if (proven_neg(gt)) {       // g < 0 on all of T, at its left end in particular
             set_neg(t.lower());
-            continue;
-        }
-        if (gt.is_empty()) {  // f undefined on all of T: nothing to prove there, ever
-            unresolved(t);
             continue;
         }
         const double a = t.lower();
@@ -179,7 +187,7 @@ RayResult Solver<E>::solve() {
             set_neg(a);
             continue;
         }
-        if (!proven_nonneg(ga) && !std::isnan(neg_)) {
+        if (!outside(ga) && !std::isnan(neg_)) {
             // The answer's t_lo is final: every enclosure of g over a set holding a also holds
             // the point enclosure ga (inclusion monotonicity), so nothing starting at a is ever
             // proven ≥ 0. Only t_hi can still move left: bisect [a, neg_] with point evaluations

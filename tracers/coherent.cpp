@@ -23,6 +23,7 @@
 #include "expr/prune.h"
 #include "interval/dual.h"
 #include "interval/interval.h"
+#include "solvers/solid.h"
 #include "tracers/parallel.h"
 
 namespace certray::tracers {
@@ -91,9 +92,13 @@ class Walker {
           rays_(rays),
           ans_(answers),
           results_(results),
+          solid_(options.surface == Surface::Solid),
           choices_(has_choices(tape.ssa())),
           t_splits_(rays.projection() == Projection::Pinhole || tape.uses_var(2)),
-          levels_(kMaxDepth) {}
+          levels_(kMaxDepth) {
+        solid_options_.budget = options.certified.budget;
+        prune_ws_.absolute_values = true;
+    }
 
     /// Answers every pixel of the root tile r.
     void tile(const Rect& r);
@@ -114,10 +119,27 @@ class Walker {
     void node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
               unsigned depth, const Hull* given = nullptr);
     void leaf(const Rect& r, double a, double b, const expr::Tape& tape);
+    /// Solid: every open ray of r that meets [a, b] enters {f < 0} at its first parameter in
+    /// [a, b] (the box there is proven inside, and g ≥ 0 is proven before): a Hit [t, t].
+    void inside(const Rect& r, double a, double b);
     /// The mean value form over the box: F(c) + Σ G_i·(X_i − c_i), with G the gradient
-    /// enclosure over the box X and c its centre; true when it excludes 0.
-    bool excluded_by_mean_value(const Ssa& list, double a, double b, const double* olo,
-                                const double* ohi, const double* dlo, const double* dhi);
+    /// enclosure over the box X and c its centre; empty when it does not apply (f not proven
+    /// defined and continuous on the box, or an unbounded gradient).
+    UpInterval mean_value(const Ssa& list, double a, double b, const double* olo, const double* ohi,
+                          const double* dlo, const double* dhi);
+    /// What an enclosure F of f over a box proves for the surface asked for.
+    enum class Proof { None, Excluded, Inside };
+    Proof proof(const UpInterval& f) const {
+        if (!solid_) return possibly_zero(f) ? Proof::None : Proof::Excluded;
+        // f ≥ 0 wherever it is defined on the box: no point of the solid {f defined, f < 0}.
+        if (f.is_empty() || f.lower() >= 0) return Proof::Excluded;
+        return f.defined && f.upper() < 0 ? Proof::Inside : Proof::None;
+    }
+    /// The certified answer on one ray segment, for the surface asked for.
+    RayResult solve(const expr::Tape& tape, const Ray& ray) const {
+        return solid_ ? solvers::solid_first_entry(tape, ray, solid_options_)
+                      : solvers::certified_first_root(tape, ray, options_.certified);
+    }
     /// Writes the answer `res` of pixel (i, j) on its ray.
     void answer(unsigned i, unsigned j, const Ray& ray, const RayResult& res);
 
@@ -126,7 +148,9 @@ class Walker {
     const PixelRays& rays_;
     PixelAnswers& ans_;
     std::vector<RayResult>* results_;  ///< every answer, when the caller asks
-    const bool choices_;               ///< the tape has min/max: pruning can shorten it
+    const bool solid_;                 ///< the solid surface (else the zero set)
+    solvers::SolidOptions solid_options_;
+    const bool choices_;  ///< the tape has min/max: pruning can shorten it
     /// Splitting in t can tighten a box: false for heightmap rays over a tape without z, whose
     /// boxes do not change along t.
     const bool t_splits_;
@@ -140,8 +164,9 @@ class Walker {
     std::vector<UpInterval> centre_;
 };
 
-bool Walker::excluded_by_mean_value(const Ssa& list, double a, double b, const double* olo,
-                                    const double* ohi, const double* dlo, const double* dhi) {
+UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double* olo,
+                              const double* ohi, const double* dlo, const double* dhi) {
+    const UpInterval none = UpInterval::empty();
     using D = Dual<UpInterval, 3>;
     if (duals_.size() < list.size()) duals_.resize(list.size());
     if (centre_.size() < list.size()) centre_.resize(list.size());
@@ -169,13 +194,12 @@ bool Walker::excluded_by_mean_value(const Ssa& list, double a, double b, const d
         const D1& g = duals1_[list.back().out];
         if (g.a.is_empty() || !g.a.defined || g.v[0].is_empty() || !std::isfinite(g.v[0].lower()) ||
             !std::isfinite(g.v[0].upper())) {
-            return false;
+            return none;
         }
         expr::detail::run<UpInterval>(list, c, centre_.data());
         UpInterval m = centre_[list.back().out];
-        if (m.is_empty() || !m.defined) return false;
-        m = m + g.v[0] * (t - UpInterval(tc));
-        return !possibly_zero(m);
+        if (m.is_empty() || !m.defined) return none;
+        return m + g.v[0] * (t - UpInterval(tc));
     }
     std::array<D, 3> p;
     std::array<UpInterval, 3> c;
@@ -189,17 +213,17 @@ bool Walker::excluded_by_mean_value(const Ssa& list, double a, double b, const d
     const D& g = duals_[list.back().out];
     // Lebourg's mean value theorem (Clarke gradients cover the kinks of abs, min, max) needs f
     // defined and continuous on the whole box and a bounded gradient enclosure.
-    if (g.a.is_empty() || !g.a.defined) return false;
+    if (g.a.is_empty() || !g.a.defined) return none;
     for (int k = 0; k < 3; ++k) {
         if (g.v[k].is_empty() || !std::isfinite(g.v[k].lower()) || !std::isfinite(g.v[k].upper())) {
-            return false;
+            return none;
         }
     }
     expr::detail::run<UpInterval>(list, c, centre_.data());
     UpInterval m = centre_[list.back().out];
-    if (m.is_empty() || !m.defined) return false;
+    if (m.is_empty() || !m.defined) return none;
     for (int k = 0; k < 3; ++k) m = m + g.v[k] * (p[k].a - c[k]);
-    return !possibly_zero(m);
+    return m;
 }
 
 void Walker::tile(const Rect& r) {
@@ -279,13 +303,20 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     ++stats.box_evals;
     stats.box_instructions += list.size();
     ++evals.interval;
-    if (!possibly_zero(f)) {  // 0 ∉ F (or f undefined on the whole box): no ray meets f = 0 here
+    // Zero: 0 ∉ F (or f undefined on the whole box), no ray meets f = 0 here. Solid: F ≥ 0, no
+    // ray enters {f < 0} here; or F < 0, every ray enters at its first point in the box.
+    Proof proven = proof(f);
+    if (proven == Proof::None && count <= options_.mean_value_rays) {
+        const UpInterval m = mean_value(list, a, b, olo, ohi, dlo, dhi);
+        if (!m.is_empty()) proven = proof(m);  // empty: the form does not apply
+    }
+    if (proven == Proof::Excluded) {
         ++stats.boxes_excluded;
         return;
     }
-    if (count <= options_.mean_value_rays &&
-        excluded_by_mean_value(list, a, b, olo, ohi, dlo, dhi)) {
-        ++stats.boxes_excluded;
+    if (proven == Proof::Inside) {
+        ++stats.boxes_inside;
+        inside(r, a, b);
         return;
     }
 
@@ -341,7 +372,7 @@ void Walker::leaf(const Rect& r, double a, double b, const expr::Tape& tape) {
             Ray s = p.ray;
             s.tmin = std::max(a, p.ray.tmin);
             s.tmax = std::min(b, p.ray.tmax);
-            RayResult res = solvers::certified_first_root(tape, s, options_.certified);
+            RayResult res = solve(tape, s);
             ++stats.leaf_solves;
             if (res.status == Status::Miss) {  // free of zeros up to b: the walk goes on
                 evals += res.evals;
@@ -357,10 +388,28 @@ void Walker::leaf(const Rect& r, double a, double b, const expr::Tape& tape) {
                 Ray rest = p.ray;
                 rest.tmin = s.tmin;
                 const EvalCounts spent = res.evals;
-                res = solvers::certified_first_root(tape_, rest, options_.certified);
+                res = solve(tape_, rest);
                 res.evals += spent;
             }
             evals += res.evals;
+            answer(i, j, p.ray, res);
+            p.open = false;
+            ++answered_;
+        }
+    }
+}
+
+void Walker::inside(const Rect& r, double a, double b) {
+    for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
+        for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
+            Px& p = px(i, j);
+            if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
+            // The point at t lies in the box, where f < 0 is proven; g ≥ 0 on [tmin, t) by the
+            // walk's invariant.
+            const double t = std::max(a, p.ray.tmin);
+            RayResult res;
+            res.status = Status::Hit;
+            res.t_lo = res.t_hi = res.t = t;
             answer(i, j, p.ray, res);
             p.open = false;
             ++answered_;
@@ -491,6 +540,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.box_evals += s.box_evals;
         total.box_instructions += s.box_instructions;
         total.boxes_excluded += s.boxes_excluded;
+        total.boxes_inside += s.boxes_inside;
         total.leaf_solves += s.leaf_solves;
         total.fallbacks += s.fallbacks;
         total.prunes += s.prunes;

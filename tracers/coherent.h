@@ -12,6 +12,15 @@
 // there) is an answer for the whole ray. A leaf answer of Unknown is redone by the per-ray solver
 // on [a, tmax] with the full tape, so that a proof further along the ray is still found. Reference:
 // Knoll et al. 2009, Keeter 2020, Duff 1992; docs/theory/coherent.md.
+//
+// Under the solid surface (CoherentOptions::surface) every pixel has the meaning of
+// solvers::solid_first_entry on its ray: Hit [t_lo, t_hi] — g(t_hi) < 0 proven and g ≥ 0 proven on
+// [tmin, t_lo); Miss — g ≥ 0 proven on [tmin, tmax] (where g is defined); otherwise Unknown. A box
+// over which the enclosure of f is empty or has lower bound ≥ 0 proves g ≥ 0 for its rays on
+// [a, b] (wherever f is defined: other points are not in the solid); one over
+// which it is defined with upper bound < 0 proves, for each of its rays, g < 0 at the first
+// parameter of [a, b] on the ray — where g ≥ 0 is already proven before it, so that ray is a Hit
+// [t, t] with no further work. Leaves run solid_first_entry on their segment.
 #pragma once
 
 #include <cstdint>
@@ -22,6 +31,7 @@
 #include "solvers/certified.h"
 #include "solvers/ray.h"
 #include "tracers/camera.h"
+#include "tracers/methods.h"
 #include "tracers/render.h"
 
 namespace certray::tracers {
@@ -53,6 +63,9 @@ struct CoherentOptions {
     /// (advanced root tile by root tile).
     RenderOptions render;
     Projection projection = Projection::Pinhole;
+    /// Zero: the first t with f = 0 (certified_first_root); Solid: the first entry into {f < 0}
+    /// (solid_first_entry).
+    Surface surface = Surface::Zero;
     /// The per-ray solver's options, for every leaf ray (budget per solve). By default those an
     /// image needs: hits narrowed to 1e-6 relative width, not to 4 ulps by the exact oracle
     /// (docs/theory/coherent.md, "Options for images"); the answers keep their meaning. Set
@@ -74,7 +87,8 @@ struct CoherentOptions {
 struct CoherentStats {
     std::uint64_t box_evals = 0;         ///< interval evaluations over tile × segment boxes
     std::uint64_t box_instructions = 0;  ///< instructions those evaluations ran (pruned lengths)
-    std::uint64_t boxes_excluded = 0;    ///< boxes proven free of zeros
+    std::uint64_t boxes_excluded = 0;    ///< boxes proven free of zeros (solid: f ≥ 0 on them)
+    std::uint64_t boxes_inside = 0;      ///< solid: boxes proven inside (f < 0), rays answered
     std::uint64_t leaf_solves = 0;       ///< certified solves of one ray on one segment
     std::uint64_t fallbacks = 0;         ///< leaf Unknowns redone on the rest of the ray
     std::uint64_t prunes = 0;            ///< boxes whose tape was shortened
@@ -103,14 +117,14 @@ class PixelRays {
 };
 
 /// Renders `tape` by coherent certified ray casting (see the file contract): the same RenderResult
-/// as render_3d with the `certified` method (answers, AOV image, statistics), where
-/// answers.evals[k] counts the whole-tape evaluations of pixel k's own solves (leaf and fallback)
-/// and stats.evals adds every box evaluation (as interval evaluations, whatever their pruned
-/// length). When `stats` is given it receives the walk's counters; when `results` is given, every
-/// pixel's whole answer (row-major, top row first; a ray that misses the bounds is a Miss with no
-/// evaluation). Threads: a parallel loop over root tiles, the calling thread taking part; sound in
-/// any caller's floating-point environment. Throws std::invalid_argument as PixelRays does, or
-/// for root_tile = 0.
+/// as render_3d with the `certified` method on options.surface (answers, AOV image, statistics),
+/// where answers.evals[k] counts the whole-tape evaluations of pixel k's own solves (leaf and
+/// fallback) and stats.evals adds every box evaluation (as interval evaluations, whatever their
+/// pruned length). When `stats` is given it receives the walk's counters; when `results` is given,
+/// every pixel's whole answer (row-major, top row first; a ray that misses the bounds is a Miss
+/// with no evaluation). Threads: a parallel loop over root tiles, the calling thread taking part;
+/// sound in any caller's floating-point environment. Throws std::invalid_argument as PixelRays
+/// does, or for root_tile = 0.
 RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& options,
                                 CoherentStats* stats = nullptr,
                                 std::vector<RayResult>* results = nullptr);

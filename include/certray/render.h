@@ -30,7 +30,7 @@ struct RenderSettings {
     /// An orthographic heightmap (one ray per pixel along −z over the bounds' x–y rectangle, from
     /// z = hi down to z = lo) instead of the pinhole camera; drawn by the coherent renderer.
     bool ortho = false;
-    /// The certified method on the zero surface is drawn by the coherent renderer
+    /// The certified method (zero or solid surface) is drawn by the coherent renderer
     /// (tracers/coherent.h: rays sharing interval work, each pixel keeping its certified
     /// meaning); false: one independent ray per pixel, as for the other methods.
     bool coherent = true;

@@ -23,6 +23,7 @@
 #include "expr/parser.h"
 #include "expr/tape.h"
 #include "solvers/certified.h"
+#include "solvers/solid.h"
 #include "tests/support/fp_env.h"
 #include "tests/support/random_dag.h"
 
@@ -77,8 +78,8 @@ void tally(Agreement& a, unsigned i, unsigned j, const RayResult& coherent, cons
     }
 }
 
-/// The coherent render of `tape` compared with the per-ray certified solver (its default options)
-/// on every pixel's ray
+/// The coherent render of `tape` compared with the per-ray certified solver (its default options;
+/// solid_first_entry under the solid surface) on every pixel's ray
 /// (every `stride`-th pixel for the MPFR reference, when `reference` is set).
 Agreement against_per_ray(const expr::Tape& tape, const CoherentOptions& o, bool reference = false,
                           unsigned stride = 1) {
@@ -105,9 +106,16 @@ Agreement against_per_ray(const expr::Tape& tape, const CoherentOptions& o, bool
                 continue;
             }
             if (k % stride != 0) continue;
-            const RayResult ref = reference
-                                      ? solvers::certified_first_root_reference(tape, ray, per_ray)
-                                      : solvers::certified_first_root(tape, ray, per_ray);
+            RayResult ref;
+            if (o.surface == Surface::Solid) {
+                solvers::SolidOptions so;
+                so.budget = o.certified.budget;
+                ref = reference ? solvers::solid_first_entry_reference(tape, ray, so)
+                                : solvers::solid_first_entry(tape, ray, so);
+            } else {
+                ref = reference ? solvers::certified_first_root_reference(tape, ray, per_ray)
+                                : solvers::certified_first_root(tape, ray, per_ray);
+            }
             tally(a, i, j, results[k], ref);
         }
     }
@@ -155,6 +163,91 @@ TEST(Coherent, GalleryAgreesWithThePerRaySolverPixelByPixel) {
         }
     }
     EXPECT_GE(scenes, 10u);
+}
+
+// Solid: two answers agree as for the zero set (two Hits both enclose the first entry, so their
+// enclosures intersect). The walk may decide where the per-ray solver cannot (its boxes are pruned
+// per region), never the other way round, and never against it.
+TEST(Coherent, SolidAgreesWithThePerRaySolidSolver) {
+    std::vector<fs::path> scenes = gallery();
+    for (const char* m : {"fidget/bear.vm", "fidget/colonnade.vm", "tanglecube.vm"}) {
+        scenes.push_back(kScenes / m);
+    }
+    for (const fs::path& path : scenes) {
+        const expr::Tape tape(expr::load_graph_file(path.string()));
+        if (!tape.uses_var(2)) continue;
+        for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
+            CoherentOptions o = small_view(p);
+            o.surface = Surface::Solid;
+            o.render.width = o.render.height = 24;
+            if (path.parent_path().filename() == "fidget")
+                o.render.bounds = {{{-1, 1}, {-1, 1}, {-1, 1}}};
+            o.render.camera = frame_box(o.render.bounds, 35, 1.0);
+            CoherentStats stats;
+            std::vector<RayResult> results;
+            render_3d_coherent(tape, o, &stats, &results);
+            const Agreement a = against_per_ray(tape, o);
+            const std::string where =
+                path.filename().string() + (p == Projection::Pinhole ? " pinhole" : " ortho");
+            EXPECT_EQ(a.wrong, 0u) << where << ": " << a.first_wrong;
+            EXPECT_GT(a.rays, 0u) << where;
+            // Where the two differ, the per-ray solver is the one that said Unknown.
+            const PixelRays rays(o);
+            solvers::SolidOptions so;
+            so.budget = o.certified.budget;
+            for (std::size_t k = 0; k < results.size(); ++k) {
+                if (results[k].status != Status::Unknown) continue;
+                Ray ray;
+                if (!rays.ray(static_cast<unsigned>(k % o.render.width),
+                              static_cast<unsigned>(k / o.render.width), ray)) {
+                    continue;
+                }
+                EXPECT_EQ(solvers::solid_first_entry(tape, ray, so).status, Status::Unknown)
+                    << where << ": pixel " << k;
+            }
+        }
+    }
+}
+
+TEST(Coherent, SolidHitsHoldTheEntryOfMathematics) {
+    // The ball of radius 1 seen along −z over [−2, 2]³: a ray at (x, y) enters at
+    // z = sqrt(1 − x² − y²), t = 2 − z; the first entry lies in every Hit's enclosure.
+    const expr::Tape tape(expr::parse_expr("x^2 + y^2 + z^2 - 1"));
+    CoherentOptions o = small_view(Projection::Ortho);
+    o.surface = Surface::Solid;
+    CoherentStats stats;
+    std::vector<RayResult> results;
+    const RenderResult r = render_3d_coherent(tape, o, &stats, &results);
+    const PixelRays rays(o);
+    unsigned hits = 0;
+    for (std::size_t k = 0; k < results.size(); ++k) {
+        Ray ray;
+        ASSERT_TRUE(rays.ray(static_cast<unsigned>(k % 48), static_cast<unsigned>(k / 48), ray));
+        const double x = ray.o[0], y = ray.o[1], rr = x * x + y * y;
+        if (rr < 1 - 1e-9) {
+            ASSERT_EQ(results[k].status, Status::Hit) << k;
+            const double t = 2 - std::sqrt(1 - rr);
+            EXPECT_LE(results[k].t_lo, t + 1e-12) << k;
+            EXPECT_GE(results[k].t_hi, t - 1e-12) << k;
+            ++hits;
+        } else if (rr > 1 + 1e-9) {
+            EXPECT_EQ(results[k].status, Status::Miss) << k;
+        }
+    }
+    EXPECT_GT(hits, 100u);
+    EXPECT_EQ(r.stats.unknown, 0u);
+
+    // Over [−1/2, 1/2]³ every ray starts inside the ball (the corners are at distance √3/2 < 1):
+    // boxes proven inside answer them Hit [0, 0] at once.
+    o.render.bounds = {{{-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}}};
+    const RenderResult in = render_3d_coherent(tape, o, &stats, &results);
+    EXPECT_EQ(in.stats.hit, 48u * 48u);
+    EXPECT_GT(stats.boxes_inside, 0u);
+    for (const RayResult& res : results) {
+        ASSERT_EQ(res.status, Status::Hit);
+        EXPECT_EQ(res.t_lo, 0.0);
+        EXPECT_EQ(res.t_hi, 0.0);
+    }
 }
 
 TEST(Coherent, PerRaySolverDefaultsKeepTheAnswers) {

@@ -151,6 +151,7 @@ RC_GTEST_PROP(PruneSsa, PrunedListIsTheSameFunctionOnTheBox, ()) {
     bool finite = false;
     const std::vector<UpInterval> v = enclose(t.ssa(), b, finite);
     PruneWorkspace ws;
+    ws.absolute_values = *rc::gen::arbitrary<bool>();
     Ssa out;
     const bool changed = prune_ssa(t.ssa(), v.data(), ws, out);
     RC_TAG(changed ? "pruned" : "unchanged", finite ? "bounded" : "unbounded");
@@ -165,6 +166,7 @@ RC_GTEST_PROP(PruneSsa, PruningAPrunedListOnASubBoxKeepsTheFunction, ()) {
     const std::array<double, 3> p = gen_point(b);
     bool finite = false;
     PruneWorkspace ws;
+    ws.absolute_values = *rc::gen::arbitrary<bool>();
     Ssa once, twice;
     const std::vector<UpInterval> v = enclose(t.ssa(), b, finite);
     const Ssa& first = prune_ssa(t.ssa(), v.data(), ws, once) ? once : t.ssa();
@@ -311,6 +313,43 @@ TEST(PruneSsa, APointEnclosureBecomesAConstant) {
                             [](const Instr& in) { return in.op == Op::Const && in.imm == 2.0; }),
               1);
     EXPECT_EQ(at(out, {4.0, 0.5, 0.0}), 1.0);
+}
+
+TEST(PruneSsa, MaxOfXAndMinusXBecomesAbsoluteValue) {
+    // f = max(max(u, y − 10), −min(u, y + 10)) with u = x − 1/2, on x ∈ [0.4, 0.6], y ∈ [−1, 1]:
+    // both inner choices pick u, so f = max(u, −u) = |u| there. As a max the enclosure is
+    // [−0.1, 0.1]; as |u|, [0, 0.1]: f ≥ 0 is proven on the box (a model that touches 0 along
+    // the plane x = 1/2, as Fidget's colonnade does).
+    Graph g;
+    const NodeId u = g.binary(Op::Sub, g.var(0), g.constant(0.5));
+    const NodeId left = g.binary(Op::Max, u, g.binary(Op::Sub, g.var(1), g.constant(10.0)));
+    const NodeId right =
+        g.unary(Op::Neg, g.binary(Op::Min, u, g.binary(Op::Add, g.var(1), g.constant(10.0))));
+    g.set_output(g.binary(Op::Max, left, right));
+    const Tape t(g);
+    const Box b{{{0.4, 0.6}, {-1.0, 1.0}, {0.0, 0.0}}};
+    bool finite = false;
+    EXPECT_LT(output(t.ssa(), enclose(t.ssa(), b, finite)).lower(), 0.0);
+    auto abs_count = [](const Ssa& list) {
+        return std::count_if(list.begin(), list.end(),
+                             [](const Instr& in) { return in.op == Op::Abs; });
+    };
+    EXPECT_EQ(abs_count(pruned(t.ssa(), b)), 0);  // off by default
+    const std::vector<UpInterval> v = enclose(t.ssa(), b, finite);
+    PruneWorkspace ws;
+    ws.absolute_values = true;
+    Ssa out;
+    ASSERT_TRUE(prune_ssa(t.ssa(), v.data(), ws, out));
+    EXPECT_TRUE(well_formed(out));
+    EXPECT_EQ(abs_count(out), 1);
+    const Interval f = output(out, enclose(out, b, finite));
+    EXPECT_EQ(f.lower(), 0.0);
+    EXPECT_GE(f.upper(), 0.6 - 0.5);  // the largest |u| on the box (the doubles 0.6 and 0.4)
+    EXPECT_LE(f.upper(), 0.1 + 1e-15);
+    for (double x : {0.4, 0.45, 0.5, 0.55, 0.6}) {
+        EXPECT_EQ(at(out, {x, 0.25, 0.0}), std::fabs(x - 0.5)) << x;
+        EXPECT_EQ(at(out, {x, 0.25, 0.0}), at(t.ssa(), {x, 0.25, 0.0})) << x;
+    }
 }
 
 }  // namespace
