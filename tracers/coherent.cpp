@@ -45,7 +45,12 @@ struct Rect {
 struct Px {
     Ray ray;
     bool open = false;
+    std::uint8_t splits = 0;  ///< undecided leaf segments split again for this ray so far
 };
+
+/// How often one ray's undecided leaf segment is split again (with a tape pruned to each half)
+/// before the per-ray solver takes the rest of the ray.
+constexpr std::uint8_t kMaxSplits = 24;
 
 /// The buffers of one depth of the descent: the slot enclosures of the node's box evaluation,
 /// the list pruned to that box, and the register tape a leaf builds from it.
@@ -118,7 +123,8 @@ class Walker {
     };
     void node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
               unsigned depth, const Hull* given = nullptr);
-    void leaf(const Rect& r, double a, double b, const expr::Tape& tape);
+    void leaf(const Rect& r, double a, double b, const Ssa& list, const expr::Tape& tape,
+              unsigned depth);
     /// Solid: every open ray of r that meets [a, b] enters {f < 0} at its first parameter in
     /// [a, b] (the box there is proven inside, and g ≥ 0 is proven before): a Hit [t, t].
     void inside(const Rect& r, double a, double b);
@@ -360,10 +366,11 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
         level.tape = tape_of(*sub);
         sub_tape = &level.tape;
     }
-    leaf(r, a, b, *sub_tape);
+    leaf(r, a, b, *sub, *sub_tape, depth);
 }
 
-void Walker::leaf(const Rect& r, double a, double b, const expr::Tape& tape) {
+void Walker::leaf(const Rect& r, double a, double b, const Ssa& list, const expr::Tape& tape,
+                  unsigned depth) {
     for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
         for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
             Px& p = px(i, j);
@@ -374,12 +381,28 @@ void Walker::leaf(const Rect& r, double a, double b, const expr::Tape& tape) {
             s.tmax = std::min(b, p.ray.tmax);
             RayResult res = solve(tape, s);
             ++stats.leaf_solves;
+            const std::size_t k = std::size_t{j} * ans_.width + i;
             if (res.status == Status::Miss) {  // free of zeros up to b: the walk goes on
                 evals += res.evals;
-                const std::size_t k = std::size_t{j} * ans_.width + i;
                 ans_.evals[k] += res.evals.total();
                 if (results_ != nullptr) (*results_)[k].evals += res.evals;
                 continue;
+            }
+            if (res.status == Status::Unknown && choices_ && p.splits < kMaxSplits &&
+                depth + 1 < kMaxDepth && splittable(s.tmin, s.tmax)) {
+                // Undecided on the segment with this tape: each half gets its own box evaluation
+                // and a tape pruned to it, where the choices that blurred the sign may resolve
+                // (max(x, −min(x, y)) at the edge of a plane where f touches 0, say).
+                ++p.splits;
+                ++stats.splits;
+                evals += res.evals;
+                ans_.evals[k] += res.evals.total();
+                if (results_ != nullptr) (*results_)[k].evals += res.evals;
+                const double m = 0.5 * s.tmin + 0.5 * s.tmax;
+                const Rect one{i, j, 1, 1};  // this ray alone
+                node(one, s.tmin, m, list, &tape, depth + 1);
+                if (p.open) node(one, m, s.tmax, list, &tape, depth + 1);
+                continue;  // answered by the halves, or proven free of zeros up to s.tmax
             }
             if (res.status == Status::Unknown && s.tmax < p.ray.tmax) {
                 // Undecided in this segment: the per-ray solver on the rest of the ray (full tape)
@@ -543,6 +566,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.boxes_inside += s.boxes_inside;
         total.leaf_solves += s.leaf_solves;
         total.fallbacks += s.fallbacks;
+        total.splits += s.splits;
         total.prunes += s.prunes;
     }
     for (std::size_t k = 0; k < pixels; ++k) {

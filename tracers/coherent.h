@@ -9,8 +9,10 @@
 // enclosure of f excludes 0, proves every one of those rays free of zeros on [a, b]; segments are
 // processed front to back, so when a ray reaches a leaf at parameter a, [tmin, a) is proven free
 // and the certified solver's answer on [a, b] (with a tape pruned to the leaf's box, which equals f
-// there) is an answer for the whole ray. A leaf answer of Unknown is redone by the per-ray solver
-// on [a, tmax] with the full tape, so that a proof further along the ray is still found. Reference:
+// there) is an answer for the whole ray. A one-ray leaf answer of Unknown on [a, b] is first split
+// in two again (each half its own box evaluation and pruned tape, up to 24 times a ray); what
+// stays undecided is redone by the per-ray solver on [a, tmax] with the full tape, so that a proof
+// further along the ray is still found. Reference:
 // Knoll et al. 2009, Keeter 2020, Duff 1992; docs/theory/coherent.md.
 //
 // Under the solid surface (CoherentOptions::surface) every pixel has the meaning of
@@ -91,6 +93,7 @@ struct CoherentStats {
     std::uint64_t boxes_inside = 0;      ///< solid: boxes proven inside (f < 0), rays answered
     std::uint64_t leaf_solves = 0;       ///< certified solves of one ray on one segment
     std::uint64_t fallbacks = 0;         ///< leaf Unknowns redone on the rest of the ray
+    std::uint64_t splits = 0;            ///< undecided one-ray leaf segments split in two again
     std::uint64_t prunes = 0;            ///< boxes whose tape was shortened
     std::uint64_t tape_length = 0;       ///< instructions of the full tape
 };
