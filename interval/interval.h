@@ -45,13 +45,26 @@ namespace bil = boost::numeric::interval_lib;
 /// Ulps by which a glibc round-to-nearest transcendental result is widened outward.
 inline constexpr int kTranscUlps = 2;
 
+/// The next double above v (std::nextafter(v, +inf) without the library call, whatever the
+/// floating-point environment: the representation's order is the numbers' order); +inf and NaN
+/// are kept.
+inline double next_up(double v) {
+    if (!(v < std::numeric_limits<double>::infinity())) return v;
+    if (v == 0) return std::numeric_limits<double>::denorm_min();
+    const std::uint64_t b = std::bit_cast<std::uint64_t>(v);
+    return std::bit_cast<double>(v > 0 ? b + 1 : b - 1);
+}
+
+/// The next double below v; −inf and NaN are kept.
+inline double next_down(double v) { return -next_up(-v); }
+
 inline double step_down(double v, int n) {
-    for (int i = 0; i < n; ++i) v = std::nextafter(v, -std::numeric_limits<double>::infinity());
+    for (int i = 0; i < n; ++i) v = next_down(v);
     return v;
 }
 
 inline double step_up(double v, int n) {
-    for (int i = 0; i < n; ++i) v = std::nextafter(v, std::numeric_limits<double>::infinity());
+    for (int i = 0; i < n; ++i) v = next_up(v);
     return v;
 }
 

@@ -42,10 +42,7 @@ class Solver {
     bool out_of_budget() const { return result_.evals.total() >= options_.budget; }
     /// A hit enclosure needs no more narrowing: a few ulps, or options.hit_width relative to |t|.
     bool narrow_enough(const Interval& t) const {
-        if (narrow(t.lower(), t.upper())) return true;
-        const double scale = std::max(std::fabs(t.lower()), std::fabs(t.upper()));
-        return options_.hit_width > 0 && std::isfinite(scale) &&
-               t.upper() - t.lower() <= options_.hit_width * scale;
+        return solvers::narrow_enough(t.lower(), t.upper(), options_.hit_width);
     }
 
     /// G(T): g over the parameter interval T.

@@ -167,6 +167,12 @@ RayResult Solver<E>::solve() {
         if (!std::isnan(neg_)) {
             if (stack.back().lower() >= neg_) break;  // the stack is ordered: all the rest too
             if (stack.back().upper() > neg_) stack.back() = Interval(stack.back().lower(), neg_);
+            // Everything left of the pending interval is proven outside: [that, neg] is a hit
+            // enclosure, narrow enough for the options.
+            if (std::isnan(cand_lo_) && options_.hit_width > 0 &&
+                narrow_enough(stack.back().lower(), neg_, options_.hit_width)) {
+                return finish(Status::Hit, stack.back().lower(), neg_);
+            }
         }
         if (out_of_budget()) {
             const double lo = std::min(proven_to(), std::isnan(neg_) ? kInf : neg_);

@@ -29,6 +29,10 @@ struct SolidOptions {
     /// Also enclose g over each parameter interval T by the affine form of g in T's one noise
     /// symbol, and use the intersection with the interval enclosure (two evaluations, counted).
     bool affine = false;
+    /// 0: a hit is narrowed as far as the search goes (a few ulps at a simple crossing). > 0: it
+    /// stops once t_hi − t_lo ≤ hit_width · max(|t_lo|, |t_hi|) (an image needs no few-ulp depths);
+    /// the answer keeps its meaning.
+    double hit_width = 0;
 };
 
 /// The first entry of the ray o + t·d, t ∈ [ray.tmin, ray.tmax], into {f < 0}, certified (see the

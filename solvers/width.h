@@ -22,9 +22,16 @@ inline bool splittable(double a, double b) {
 /// Few ulps wide: at most 4 ulps at the magnitude of the larger bound, or not splittable.
 inline bool narrow(double a, double b) {
     const double scale = std::max(std::fabs(a), std::fabs(b));
-    double lim = scale;
-    for (int i = 0; i < 4; ++i) lim = std::nextafter(lim, std::numeric_limits<double>::infinity());
+    const double lim = detail::step_up(scale, 4);
     return !splittable(a, b) || (std::isfinite(b - a) && b - a <= lim - scale);
+}
+
+/// Narrow, or at most `relative` times the larger magnitude wide (relative > 0): how wide a hit
+/// enclosure may stay (an image needs no few-ulp depths).
+inline bool narrow_enough(double a, double b, double relative) {
+    if (narrow(a, b)) return true;
+    const double scale = std::max(std::fabs(a), std::fabs(b));
+    return relative > 0 && std::isfinite(scale) && b - a <= relative * scale;
 }
 
 }  // namespace certray::solvers

@@ -102,6 +102,7 @@ class Walker {
           t_splits_(rays.projection() == Projection::Pinhole || tape.uses_var(2)),
           levels_(kMaxDepth) {
         solid_options_.budget = options.certified.budget;
+        solid_options_.hit_width = options.certified.hit_width;
         prune_ws_.absolute_values = true;
     }
 

@@ -6,8 +6,10 @@
 #include <mpfr.h>
 #include <rapidcheck/gtest.h>
 
+#include <bit>
 #include <cfenv>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -26,6 +28,48 @@ using testing::encloses;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // The compiler must not fold these to round-to-nearest points (the known -frounding-math trap).
+// The outward steps of the transcendental functions: the next double up and down, as
+// std::nextafter gives them, at the special values and the ends of every range.
+TEST(IntervalSteps, NextUpAndDownAreNextafter) {
+    using L = std::numeric_limits<double>;
+    const double values[] = {0.0,
+                             -0.0,
+                             L::denorm_min(),
+                             -L::denorm_min(),
+                             L::min(),
+                             -L::min(),
+                             1.0,
+                             -1.0,
+                             0.1,
+                             -1e300,
+                             L::max(),
+                             -L::max(),
+                             L::infinity(),
+                             -L::infinity(),
+                             3.0 * L::denorm_min(),
+                             2.0};
+    for (double v : values) {
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(detail::next_up(v)),
+                  std::bit_cast<std::uint64_t>(std::nextafter(v, L::infinity())))
+            << v;
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(detail::next_down(v)),
+                  std::bit_cast<std::uint64_t>(std::nextafter(v, -L::infinity())))
+            << v;
+    }
+    EXPECT_TRUE(std::isnan(detail::next_up(L::quiet_NaN())));
+    EXPECT_TRUE(std::isnan(detail::next_down(L::quiet_NaN())));
+}
+
+RC_GTEST_PROP(IntervalSteps, NextUpIsNextafterEverywhere, ()) {
+    const double v = std::bit_cast<double>(*rc::gen::arbitrary<std::uint64_t>());
+    if (std::isnan(v)) return;
+    using L = std::numeric_limits<double>;
+    RC_ASSERT(std::bit_cast<std::uint64_t>(detail::next_up(v)) ==
+              std::bit_cast<std::uint64_t>(std::nextafter(v, L::infinity())));
+    RC_ASSERT(std::bit_cast<std::uint64_t>(detail::next_down(v)) ==
+              std::bit_cast<std::uint64_t>(std::nextafter(v, -L::infinity())));
+}
+
 TEST(IntervalCanary, OneThirdHasPositiveWidth) {
     volatile double one = 1.0, three = 3.0;
     Interval r = Interval(1.0) / Interval(3.0);
