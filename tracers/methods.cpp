@@ -86,6 +86,22 @@ RayFunction make_certified(const expr::Tape& tape, const MethodOptions& o, bool 
 
 using Tracer = RayResult (*)(const expr::Tape&, const Ray&, double, const TraceOptions&);
 
+/// `res`, an answer on `ray`, unless it is Unknown with evaluations and time left: then segment
+/// tracing on [res.t_lo, ray.tmax] (no root lies before res.t_lo), with the evaluations of both.
+RayResult segments_after(const expr::Tape& tape, const Ray& ray, const RayResult& res,
+                         const TraceOptions& topt, const Deadline& deadline) {
+    if (res.status != Status::Unknown || !(res.t_lo >= ray.tmin && res.t_lo <= ray.tmax) ||
+        res.evals.total() >= topt.budget || deadline.passed()) {
+        return res;
+    }
+    TraceOptions opt = topt;
+    opt.budget = topt.budget - res.evals.total();
+    opt.seconds = deadline.seconds_left();
+    RayResult rest = segment_trace(tape, Ray{ray.o, ray.d, res.t_lo, ray.tmax}, opt);
+    rest.evals += res.evals;
+    return rest;
+}
+
 /// Sphere tracing with a proven global λ: over the bounds (computed once; rays clipped to them),
 /// or else over each ray's own segment box (one gradient evaluation per ray, counted).
 RayFunction make_lipschitz_tracer(const expr::Tape& tape, const MethodOptions& o, Tracer trace) {
@@ -110,11 +126,16 @@ RayFunction make_lipschitz_tracer(const expr::Tape& tape, const MethodOptions& o
         }
         // No usable global bound (a jump, a clamp without distance semantics, an unbounded
         // derivative): sphere tracing cannot step; segment tracing's local bounds along the ray
-        // can, and never step past the first root either.
-        RayResult res = std::isfinite(lambda) && lambda > 0 ? trace(tape, ray, lambda, topt)
-                                                            : segment_trace(tape, ray, topt);
+        // can, and never step past the first root either. The same where sphere tracing stops
+        // unknown with budget and time left (g undefined at a point, the step vanished): segment
+        // tracing goes on from there (no root lies before it).
+        const Deadline deadline(topt.seconds);
+        RayResult res;
+        res.status = Status::Unknown;
+        res.t_lo = ray.tmin;
+        if (std::isfinite(lambda) && lambda > 0) res = trace(tape, ray, lambda, topt);
         res.evals.gradient += extra;
-        return res;
+        return segments_after(tape, ray, res, topt, deadline);
     };
 }
 
@@ -125,9 +146,11 @@ RayFunction inside_and_out(const expr::Tape& tape, const std::array<Interval, 3>
                            const TraceOptions& topt,
                            std::function<RayResult(const Ray&, const TraceOptions&)> inside) {
     return [&tape, bounds, topt, inside](const Ray& r) {
-        auto with_budget = [&topt](std::uint64_t left) {
+        const Deadline deadline(topt.seconds);  // one time budget for the whole ray
+        auto with_budget = [&topt, &deadline](std::uint64_t left) {
             TraceOptions opt = topt;
             opt.budget = left;
+            opt.seconds = deadline.seconds_left();
             return opt;
         };
         return trace_in_parts(
@@ -254,7 +277,7 @@ const std::vector<Entry>& entries() {
                  tape, octree_bounds(o), OctreeOptions{o.depth, std::size_t{1} << 20});
              return inside_and_out(tape, tree->bounds(), trace_options(o),
                                    [tree](const Ray& ray, const TraceOptions& opt) {
-                                       return tree->sphere(ray, opt.epsilon, opt.budget);
+                                       return tree->sphere(ray, opt);
                                    });
          }},
         {{"bvh",
@@ -270,7 +293,12 @@ const std::vector<Entry>& entries() {
              auto scene = std::make_shared<const BoundedScene>(tape, octree_bounds(o));
              return inside_and_out(tape, scene->bounds(), trace_options(o),
                                    [scene](const Ray& ray, const TraceOptions& opt) {
-                                       return bounded_sphere_trace(*scene, ray, opt);
+                                       // Where the bounding volumes give no distance (a leaf
+                                       // with no finite λ), segment tracing goes on.
+                                       const Deadline deadline(opt.seconds);
+                                       return segments_after(scene->tape(), ray,
+                                                             bounded_sphere_trace(*scene, ray, opt),
+                                                             opt, deadline);
                                    });
          }},
         {{"analytic",
