@@ -5,13 +5,16 @@
 // segment [o + tmin·d, o + tmax·d] (the caller clips the ray to the region where λ holds, e.g.
 // the scene bounds given to global_lipschitz). At each point, g(t) is enclosed by interval
 // arithmetic at the exact real t, and the step |g|/(λ‖d‖) is rounded down, as is t + step: so
-// every t visited is ≤ the first root of g on [tmin, tmax].
+// every t visited is ≤ the first root of g on [tmin, tmax]. Where λ is loose the step is the
+// larger min(|g|/λ_ρ, ρ), λ_ρ a local bound over the point's box inflated by ρ (a distance bound
+// too; ρ doubles from step to step while it helps; docs/theory/sphere_tracing.md).
 // Answers: Hit at t (t_lo = t_hi = t) when |f|/λ < epsilon there (an approximate hit, no root
 // proven: the surface is within about epsilon only where λ is close to |∇f|; a loose λ can stop
 // the tracer farther away, never beyond the first root); Miss when a step passes tmax (proven: no
 // root on [tmin, tmax] given λ); Unknown when the budget is spent (notably for tmax = +inf with
 // no surface ahead: the tracer never proves a miss to infinity), when g is undefined at a point,
-// or when λ is NaN, negative or infinite. Each step costs one interval evaluation (evals.interval).
+// or when λ is NaN, negative or infinite. Each step costs one interval evaluation (evals.interval),
+// and one interval-gradient evaluation (evals.gradient) where a local bound is tried.
 // Enhanced: steps of (1 + kappa)·|g|/λ; when the unbounding spheres of the old and the new point
 // do not overlap (r_old + r_new < step length) it goes back and takes the plain step, and stays
 // plain for the rest of the ray (Keinert's rule), so the guarantee is kept.

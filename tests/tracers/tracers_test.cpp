@@ -174,6 +174,24 @@ TEST(Tracers, OverRelaxedStepAcrossTheSurfaceIsTakenBack) {
     EXPECT_GE(r.t, 2.0 - 1e-6);
 }
 
+TEST(Tracers, LooseLambdaIsOutgrownByLocalBounds) {
+    // A cube (max of |x|, |y|, |z| − 1) united (min) with a sphere of radius 1 at (3, 0, 0):
+    // 1-Lipschitz, first zero from (0, 0, −3) along +z at the cube's face z = −1, t = 2. With a
+    // sound but loose λ = 10⁶ the steps |g|/λ are 2·10⁻⁶: the budget ran out after 0.04 of the
+    // way (unknown). Local bounds over boxes that double from step to step reach the face.
+    const Tape s =
+        tape_of("min(max(max(abs(x), abs(y)), abs(z)) - 1, sqrt((x - 3)^2 + y^2 + z^2) - 1)");
+    const Ray ray{{0, 0, -3}, {0, 0, 1}, 0, 10};
+    TraceOptions o;
+    o.seconds = 0;
+    for (const RayResult& r : {sphere_trace(s, ray, 1e6, o), enhanced_trace(s, ray, 1e6, o)}) {
+        ASSERT_EQ(r.status, Status::Hit);
+        EXPECT_LE(r.t, 2.0);
+        EXPECT_GE(r.t, 2.0 - 1e-5);
+        EXPECT_LT(r.evals.total(), 400u);
+    }
+}
+
 TEST(Tracers, BrokenLambdaOvershoots) {
     // λ/2 = 0.5 on the unit sphere from (0, 0, −3.5): the first step is 2·2.5 = 5 > 2.5, the
     // first root — sphere tracing jumps past the sphere and reports a miss. The never-past-the-
