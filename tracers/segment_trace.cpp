@@ -382,8 +382,8 @@ RayResult segment_trace(const expr::Tape& tape, const Ray& ray, const TraceOptio
 
 std::vector<SegmentOptions> segment_presets() {
     std::vector<SegmentOptions> v(7);
-    v[1].name = "fast";  // also prune long pruned lists by an interval sweep
-    v[1].sweep_pruned_above = 2000;
+    v[1].name = "no-sweep";  // sweep the whole tape only (the default before session 6)
+    v[1].sweep_pruned_above = std::numeric_limits<std::size_t>::max();
     v[2].name = "no-switch";
     v[2].switch_floor = 0;
     v[3].name = "1st-order";
