@@ -315,6 +315,19 @@ RayResult Octree::certified(const Ray& ray, const solvers::CertifiedOptions& opt
     return finish();
 }
 
+namespace {
+
+/// An enclosure of g over [t0, t1] (the box o + [t0, t1]·d, rounded outward).
+Interval segment_value(const expr::Tape& tape, const Ray& ray, double t0, double t1) {
+    thread_local expr::Evaluator<Interval> eval;
+    std::array<Interval, 3> box;
+    const Interval t(t0, t1);
+    for (int i = 0; i < 3; ++i) box[i] = Interval(ray.o[i]) + t * Interval(ray.d[i]);
+    return eval(tape, box);
+}
+
+}  // namespace
+
 RayResult Octree::sphere(const Ray& ray, const TraceOptions& options) const {
     thread_local std::vector<Segment> segments;
     RayResult r;
@@ -340,16 +353,23 @@ RayResult Octree::sphere(const Ray& ray, const TraceOptions& options) const {
     // Each ambiguous leaf's segment is sphere traced (tracers/sphere_trace.h) with the leaf's
     // pruned tape and λ; empty and full cells are skipped. Where that cannot go on, segment
     // tracing takes over from where it stopped.
+    detail::LocalBounds local;  // carried from cell to cell along the ray
     for (const Segment& seg : segments) {
         if (!left()) return unknown(seg.t0);
         const Node& n = nodes_[seg.node];
         const bool inside = segment_inside(ray, seg.t0, seg.t1, inflate(n.box));
         const expr::Tape& tape = inside ? *tapes_[n.tape] : tape_;
+        // The enclosure of g over the leaf's segment first (one interval evaluation): where it
+        // excludes 0 there is no zero on the segment (where g is defined), and nothing to trace.
+        r.evals.interval += 1;
+        if (!possibly_zero(segment_value(tape, ray, seg.t0, seg.t1))) continue;
+        if (!left()) return unknown(seg.t0);
         RayResult p;
         p.status = Status::Unknown;
         p.t_lo = seg.t0;
         if (inside && n.lambda < kInf) {
-            p = sphere_trace(tape, Ray{ray.o, ray.d, seg.t0, seg.t1}, n.lambda, opt);
+            local.useful = true;  // a new cell, a new λ
+            p = detail::sphere_trace(tape, Ray{ray.o, ray.d, seg.t0, seg.t1}, n.lambda, opt, local);
             r.evals += p.evals;
         }
         // Unknown: no root on [t0, p.t_lo); segment tracing on the rest of the leaf's segment.

@@ -18,13 +18,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// What the local bounds of one ray have learnt: the last distance bound, and whether a local λ
-/// around a point has yet beaten the global one (a tight λ is not refined again).
-struct LocalState {
-    double previous = 0;
-    bool useful = true;
-};
-
 /// The signed distance bound |g|/λ at t from the tape and a global λ (space units), improved by a
 /// local λ over the point's box inflated by ρ: min(|g|/λ_local, ρ) is a distance bound too (a
 /// surface point within ρ is reached inside that box; a farther one is farther than ρ), and the
@@ -35,7 +28,7 @@ struct LocalState {
 /// the global bound falls below epsilon — where the tracer would stop — so that a merely loose λ
 /// never stops the tracer far from any surface. Each local bound is one gradient evaluation.
 Interval tape_distance(const expr::Tape& tape, const Ray& ray, double lambda, double t,
-                       double epsilon, LocalState& local, EvalCounts& evals) {
+                       double epsilon, detail::LocalBounds& local, EvalCounts& evals) {
     const std::array<Interval, 3> p = detail::point_box(ray, t);
     thread_local expr::Evaluator<Interval> eval;
     const Interval v = eval(tape, p);
@@ -50,7 +43,9 @@ Interval tape_distance(const expr::Tape& tape, const Ray& ray, double lambda, do
         if (m > global) d = near;
         if (local.useful && !(m >= 2 * global)) local.useful = false;
     }
-    local.previous = detail::mignitude(d);
+    // ρ next: twice this bound, but at least half this ρ (where the local λ grows fast with the
+    // box, as under exponential blends, a bound far below ρ would restart the doubling low).
+    local.previous = std::max(detail::mignitude(d), local.useful ? rho / 4 : 0.0);
     return d;
 }
 
@@ -155,7 +150,7 @@ double global_lipschitz(const expr::Tape& tape, const std::array<Interval, 3>& b
 namespace {
 
 RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const TraceOptions& opt,
-                double kappa) {
+                double kappa, detail::LocalBounds& local) {
     if (std::isnan(lambda) || lambda < 0 || lambda == kInf) {
         RayResult r;
         r.status = Status::Unknown;
@@ -163,7 +158,6 @@ RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const Tra
         r.t_hi = ray.tmax;
         return r;
     }
-    LocalState local;
     return detail::trace_distance(
         [&](double t, EvalCounts& evals) {
             return tape_distance(tape, ray, lambda, t, opt.epsilon, local, evals);
@@ -179,12 +173,23 @@ RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const Tra
 
 RayResult sphere_trace(const expr::Tape& tape, const Ray& ray, double lambda,
                        const TraceOptions& options) {
-    return trace(tape, ray, lambda, options, 0.0);
+    detail::LocalBounds local;
+    return trace(tape, ray, lambda, options, 0.0, local);
 }
 
 RayResult enhanced_trace(const expr::Tape& tape, const Ray& ray, double lambda,
                          const TraceOptions& options) {
-    return trace(tape, ray, lambda, options, options.kappa);
+    detail::LocalBounds local;
+    return trace(tape, ray, lambda, options, options.kappa, local);
 }
+
+namespace detail {
+
+RayResult sphere_trace(const expr::Tape& tape, const Ray& ray, double lambda,
+                       const TraceOptions& options, LocalBounds& local) {
+    return trace(tape, ray, lambda, options, 0.0, local);
+}
+
+}  // namespace detail
 
 }  // namespace certray::tracers

@@ -45,6 +45,19 @@ RayResult enhanced_trace(const expr::Tape& tape, const Ray& ray, double lambda,
 
 namespace detail {
 
+/// What sphere tracing's local bounds carry from one point to the next: the last distance bound
+/// (ρ is twice it) and whether a local λ still beats the global one on this ray.
+struct LocalBounds {
+    double previous = 0;
+    bool useful = true;
+};
+
+/// sphere_trace continuing from `local` and leaving it as it ends: a caller tracing consecutive
+/// pieces of one ray (the octree's cells) hands it from piece to piece, so that the local
+/// bounds' ρ need not grow again from 16·epsilon in every piece.
+RayResult sphere_trace(const expr::Tape& tape, const Ray& ray, double lambda,
+                       const TraceOptions& options, LocalBounds& local);
+
 /// A signed distance bound at the exact point o + t·d: an enclosure of a value whose sign is f's
 /// and whose magnitude is at most the distance to the surface (within the region where it holds).
 /// Empty or undefined: unknown. Evaluations beyond the one the loop counts go to `evals`.

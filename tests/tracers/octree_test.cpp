@@ -156,9 +156,11 @@ TEST(Octree, SphereTracingGoesOnBySegmentsWhereACellHasNoFiniteBound) {
 TEST(Octree, SphereTracingEndsARunAwayRayAtItsDeadline) {
     // z − 1e-7 along the plane z = 0: the distance to the surface stays 1e-7 above epsilon (1e-9)
     // and λ = 1 is exact, so no local bound does better: sphere tracing crawls in steps of 1e-7,
-    // 4·10⁷ evaluations across the cube. With a budget that never stops it, the ray's time does:
-    // unknown, after about `seconds` (it ran to its end: tens of seconds, then a miss).
-    const Tape s = tape_of("z - 1e-7");
+    // 4·10⁷ evaluations across the cube. (x − x keeps 0 in the enclosure over each cell's
+    // segment, so that the cells are not skipped whole.) With a budget that never stops it, the
+    // ray's time does: unknown, after about `seconds` (it ran to its end: tens of seconds, then a
+    // miss).
+    const Tape s = tape_of("z - 1e-7 + (x - x)");
     const Octree tree(s, kCube, {5, 1u << 20});
     TraceOptions opt;
     opt.epsilon = 1e-9;
