@@ -294,11 +294,14 @@ const std::vector<Entry>& entries() {
              return inside_and_out(tape, scene->bounds(), trace_options(o),
                                    [scene](const Ray& ray, const TraceOptions& opt) {
                                        // Where the bounding volumes give no distance (a leaf
-                                       // with no finite λ), segment tracing goes on.
+                                       // with no finite λ) or after kSphereSteps, segment
+                                       // tracing goes on.
                                        const Deadline deadline(opt.seconds);
-                                       return segments_after(scene->tape(), ray,
-                                                             bounded_sphere_trace(*scene, ray, opt),
-                                                             opt, deadline);
+                                       TraceOptions first = opt;
+                                       first.budget = std::min(opt.budget, kSphereSteps);
+                                       return segments_after(
+                                           scene->tape(), ray,
+                                           bounded_sphere_trace(*scene, ray, first), opt, deadline);
                                    });
          }},
         {{"analytic",

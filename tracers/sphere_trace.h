@@ -22,6 +22,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <functional>
 
 #include "expr/tape.h"
@@ -42,6 +43,12 @@ RayResult sphere_trace(const expr::Tape& tape, const Ray& ray, double lambda,
 /// Enhanced (over-relaxed) sphere tracing with `lambda` and options.kappa (see the contract).
 RayResult enhanced_trace(const expr::Tape& tape, const Ray& ray, double lambda,
                          const TraceOptions& options);
+
+/// The evaluations after which the tracers that combine sphere tracing with segment tracing (the
+/// octree's cells, the bounding volumes) hand the rest of a piece still undecided to segment
+/// tracing: sphere tracing's free radius shrinks along a ray that grazes the surface or where λ
+/// is loose, segment tracing bounds g along the ray itself. Both never step past the first root.
+inline constexpr std::uint64_t kSphereSteps = 64;
 
 namespace detail {
 

@@ -154,13 +154,13 @@ TEST(Octree, SphereTracingGoesOnBySegmentsWhereACellHasNoFiniteBound) {
 }
 
 TEST(Octree, SphereTracingEndsARunAwayRayAtItsDeadline) {
-    // z − 1e-7 along the plane z = 0: the distance to the surface stays 1e-7 above epsilon (1e-9)
-    // and λ = 1 is exact, so no local bound does better: sphere tracing crawls in steps of 1e-7,
-    // 4·10⁷ evaluations across the cube. (x − x keeps 0 in the enclosure over each cell's
-    // segment, so that the cells are not skipped whole.) With a budget that never stops it, the
-    // ray's time does: unknown, after about `seconds` (it ran to its end: tens of seconds, then a
-    // miss).
-    const Tape s = tape_of("z - 1e-7 + (x - x)");
+    // z − 1e-7 + (x − x)·sin(10⁶x) is −1e-7 on the plane z = 0, but (x − x)·sin(10⁶x) keeps 0 in
+    // every enclosure over a piece of the ray longer than about 1e-7, and its derivative's
+    // enclosure is about ±10⁶ × the piece's length: sphere tracing (64 steps per cell) and then
+    // segment tracing crawl in steps below 1e-6 (2·10⁶ evaluations, 3 s, cross a quarter of the
+    // cube). With a budget that never stops it, the ray's time does: unknown after about
+    // `seconds`; without the deadline it ran for tens of seconds.
+    const Tape s = tape_of("z - 1e-7 + (x - x) * sin(1000000 * x)");
     const Octree tree(s, kCube, {5, 1u << 20});
     TraceOptions opt;
     opt.epsilon = 1e-9;
