@@ -370,13 +370,13 @@ RayResult Octree::sphere(const Ray& ray, const TraceOptions& options) const {
         if (inside && n.lambda < kInf) {
             local.useful = true;  // a new cell, a new λ
             TraceOptions cell = opt;
-            cell.budget = std::min(opt.budget, kSphereSteps);
+            cell.budget = std::min(opt.budget, kSphereStepsPerCell);
             p = detail::sphere_trace(tape, Ray{ray.o, ray.d, seg.t0, seg.t1}, n.lambda, cell,
                                      local);
             r.evals += p.evals;
         }
-        // Unknown (also after kSphereSteps): no root on [t0, p.t_lo); segment tracing on the rest
-        // of the leaf's segment.
+        // Unknown (also after kSphereStepsPerCell): no root on [t0, p.t_lo); segment tracing on the
+        // rest of the leaf's segment.
         if (p.status == Status::Unknown && std::isfinite(p.t_lo) && left()) {
             p = segment_trace(tape, Ray{ray.o, ray.d, p.t_lo, seg.t1}, opt);
             r.evals += p.evals;
