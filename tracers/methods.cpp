@@ -212,8 +212,9 @@ const std::vector<Entry>& entries() {
         {{"sphere",
           false,
           "sphere tracing (Hart 1996) with a proven global Lipschitz bound from the DAG (over "
-          "--bounds, else over each ray's segment); where no finite bound exists, segment "
-          "tracing; never steps past the first root",
+          "--bounds, else over each ray's segment), outgrown by local bounds where it is loose; "
+          "where no finite bound exists or sphere tracing stops unknown, segment tracing; never "
+          "steps past the first root",
           {"epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
@@ -268,8 +269,9 @@ const std::vector<Entry>& entries() {
         {{"octree",
           false,
           "sphere tracing with the local Lipschitz bound of each octree cell (Hart 1996) inside "
-          "the bounds (default [-2,2]^3, --depth 5); before and after them, segment tracing; "
-          "approximate, never steps past the first root",
+          "the bounds (default [-2,2]^3, --depth 5), cells whose segment's enclosure excludes 0 "
+          "skipped; segment tracing before and after the bounds and in a cell without a finite "
+          "bound or left undecided after 16 steps; approximate, never steps past the first root",
           {"epsilon", "budget", "bounds", "depth", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}, {"depth", {3, 7}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
@@ -285,8 +287,9 @@ const std::vector<Entry>& entries() {
           "sphere tracing with bounding volumes (Hart 1996): f's unions, intersections and "
           "complements down to its primitives, each with a box (interval slab contraction) and a "
           "Lipschitz bound, unions as a BVH; a primitive far from the point is bounded by the "
-          "distance to its box. Inside the bounds (default [-2,2]^3); before and after them, "
-          "segment tracing; approximate, never steps past the first root",
+          "distance to its box. Inside the bounds (default [-2,2]^3); before and after them, and "
+          "where the distance is undefined or 64 steps leave the ray undecided, segment tracing; "
+          "approximate, never steps past the first root",
           {"epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
