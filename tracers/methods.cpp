@@ -288,7 +288,7 @@ const std::vector<Entry>& entries() {
           "complements down to its primitives, each with a box (interval slab contraction) and a "
           "Lipschitz bound, unions as a BVH; a primitive far from the point is bounded by the "
           "distance to its box. Inside the bounds (default [-2,2]^3); before and after them, and "
-          "where the distance is undefined or 64 steps leave the ray undecided, segment tracing; "
+          "where the distance is undefined or 32 steps leave the ray undecided, segment tracing; "
           "approximate, never steps past the first root",
           {"epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},

@@ -47,10 +47,11 @@ RayResult enhanced_trace(const expr::Tape& tape, const Ray& ray, double lambda,
 /// The evaluations after which the tracers that combine sphere tracing with segment tracing hand
 /// the rest of a piece still undecided to segment tracing: sphere tracing's free radius shrinks
 /// along a ray that grazes the surface or where λ is loose, segment tracing bounds g along the ray
-/// itself; both never step past the first root. Per part of a ray inside the bounds (bvh), and
-/// per octree cell (a cell is small: sphere tracing crosses or converges in a few steps where its
-/// λ serves; Fidget's bear, 128²: 64 per cell 1.84 s, 16 per cell 0.84 s).
-inline constexpr std::uint64_t kSphereSteps = 64;
+/// itself; both never step past the first root. Per part of a ray inside the bounds (bvh; bear,
+/// 256²: 64 steps 7.9 s, 32 steps 6.3 s), and per octree cell (a cell is small: sphere tracing
+/// crosses or converges in a few steps where its λ serves; bear, 128²: 64 per cell 1.84 s, 16 per
+/// cell 0.84 s).
+inline constexpr std::uint64_t kSphereSteps = 32;
 inline constexpr std::uint64_t kSphereStepsPerCell = 16;
 
 namespace detail {
