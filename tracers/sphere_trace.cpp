@@ -22,7 +22,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// local λ over the point's box inflated by ρ: min(|g|/λ_local, ρ) is a distance bound too (a
 /// surface point within ρ is reached inside that box; a farther one is farther than ρ), and the
 /// larger bound is kept. ρ = max(16·epsilon, 2 × the previous bound): where the global λ is loose
-/// (a cell of Fidget's bear: 10⁷; a chain of smooth unions: 10¹⁷⁰) the free radius then doubles
+/// (a cell of Fidget's bear: 10¹⁸; a chain of smooth unions: 10¹⁷⁰) the free radius then doubles
 /// from step to step instead of crawling at |g|/λ. Tried where the global bound is below ρ/2;
 /// once a local bound has not beaten the global one by 2× on a ray (λ is tight there), only where
 /// the global bound falls below epsilon — where the tracer would stop — so that a merely loose λ
