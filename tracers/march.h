@@ -10,6 +10,7 @@
 // double evaluation (counted in evals.value). Reference: docs/theory/sphere_tracing.md.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdint>
@@ -45,6 +46,15 @@ class Deadline {
                            : std::chrono::steady_clock::time_point::max()) {}
     /// True once the time is up.
     bool passed() const { return std::chrono::steady_clock::now() >= end_; }
+    /// The seconds left, for the TraceOptions::seconds of a tracer run within this one's time:
+    /// 0 (no limit) when this deadline has none, else at least 1 ns (a passed deadline still
+    /// limits: the nested tracer stops at once).
+    double seconds_left() const {
+        if (end_ == std::chrono::steady_clock::time_point::max()) return 0;
+        const double left =
+            std::chrono::duration<double>(end_ - std::chrono::steady_clock::now()).count();
+        return std::max(left, 1e-9);
+    }
 
   private:
     std::chrono::steady_clock::time_point end_;

@@ -86,6 +86,22 @@ RayFunction make_certified(const expr::Tape& tape, const MethodOptions& o, bool 
 
 using Tracer = RayResult (*)(const expr::Tape&, const Ray&, double, const TraceOptions&);
 
+/// `res`, an answer on `ray`, unless it is Unknown with evaluations and time left: then segment
+/// tracing on [res.t_lo, ray.tmax] (no root lies before res.t_lo), with the evaluations of both.
+RayResult segments_after(const expr::Tape& tape, const Ray& ray, const RayResult& res,
+                         const TraceOptions& topt, const Deadline& deadline) {
+    if (res.status != Status::Unknown || !(res.t_lo >= ray.tmin && res.t_lo <= ray.tmax) ||
+        res.evals.total() >= topt.budget || deadline.passed()) {
+        return res;
+    }
+    TraceOptions opt = topt;
+    opt.budget = topt.budget - res.evals.total();
+    opt.seconds = deadline.seconds_left();
+    RayResult rest = segment_trace(tape, Ray{ray.o, ray.d, res.t_lo, ray.tmax}, opt);
+    rest.evals += res.evals;
+    return rest;
+}
+
 /// Sphere tracing with a proven global λ: over the bounds (computed once; rays clipped to them),
 /// or else over each ray's own segment box (one gradient evaluation per ray, counted).
 RayFunction make_lipschitz_tracer(const expr::Tape& tape, const MethodOptions& o, Tracer trace) {
@@ -110,11 +126,16 @@ RayFunction make_lipschitz_tracer(const expr::Tape& tape, const MethodOptions& o
         }
         // No usable global bound (a jump, a clamp without distance semantics, an unbounded
         // derivative): sphere tracing cannot step; segment tracing's local bounds along the ray
-        // can, and never step past the first root either.
-        RayResult res = std::isfinite(lambda) && lambda > 0 ? trace(tape, ray, lambda, topt)
-                                                            : segment_trace(tape, ray, topt);
+        // can, and never step past the first root either. The same where sphere tracing stops
+        // unknown with budget and time left (g undefined at a point, the step vanished): segment
+        // tracing goes on from there (no root lies before it).
+        const Deadline deadline(topt.seconds);
+        RayResult res;
+        res.status = Status::Unknown;
+        res.t_lo = ray.tmin;
+        if (std::isfinite(lambda) && lambda > 0) res = trace(tape, ray, lambda, topt);
         res.evals.gradient += extra;
-        return res;
+        return segments_after(tape, ray, res, topt, deadline);
     };
 }
 
@@ -125,9 +146,11 @@ RayFunction inside_and_out(const expr::Tape& tape, const std::array<Interval, 3>
                            const TraceOptions& topt,
                            std::function<RayResult(const Ray&, const TraceOptions&)> inside) {
     return [&tape, bounds, topt, inside](const Ray& r) {
-        auto with_budget = [&topt](std::uint64_t left) {
+        const Deadline deadline(topt.seconds);  // one time budget for the whole ray
+        auto with_budget = [&topt, &deadline](std::uint64_t left) {
             TraceOptions opt = topt;
             opt.budget = left;
+            opt.seconds = deadline.seconds_left();
             return opt;
         };
         return trace_in_parts(
@@ -189,8 +212,9 @@ const std::vector<Entry>& entries() {
         {{"sphere",
           false,
           "sphere tracing (Hart 1996) with a proven global Lipschitz bound from the DAG (over "
-          "--bounds, else over each ray's segment); where no finite bound exists, segment "
-          "tracing; never steps past the first root",
+          "--bounds, else over each ray's segment), outgrown by local bounds where it is loose; "
+          "where no finite bound exists or sphere tracing stops unknown, segment tracing; never "
+          "steps past the first root",
           {"epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
@@ -245,8 +269,9 @@ const std::vector<Entry>& entries() {
         {{"octree",
           false,
           "sphere tracing with the local Lipschitz bound of each octree cell (Hart 1996) inside "
-          "the bounds (default [-2,2]^3, --depth 5); before and after them, segment tracing; "
-          "approximate, never steps past the first root",
+          "the bounds (default [-2,2]^3, --depth 5), cells whose segment's enclosure excludes 0 "
+          "skipped; segment tracing before and after the bounds and in a cell without a finite "
+          "bound or left undecided after 16 steps; approximate, never steps past the first root",
           {"epsilon", "budget", "bounds", "depth", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}, {"depth", {3, 7}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
@@ -254,7 +279,7 @@ const std::vector<Entry>& entries() {
                  tape, octree_bounds(o), OctreeOptions{o.depth, std::size_t{1} << 20});
              return inside_and_out(tape, tree->bounds(), trace_options(o),
                                    [tree](const Ray& ray, const TraceOptions& opt) {
-                                       return tree->sphere(ray, opt.epsilon, opt.budget);
+                                       return tree->sphere(ray, opt);
                                    });
          }},
         {{"bvh",
@@ -262,15 +287,24 @@ const std::vector<Entry>& entries() {
           "sphere tracing with bounding volumes (Hart 1996): f's unions, intersections and "
           "complements down to its primitives, each with a box (interval slab contraction) and a "
           "Lipschitz bound, unions as a BVH; a primitive far from the point is bounded by the "
-          "distance to its box. Inside the bounds (default [-2,2]^3); before and after them, "
-          "segment tracing; approximate, never steps past the first root",
+          "distance to its box. Inside the bounds (default [-2,2]^3); before and after them, and "
+          "where the distance is undefined or 32 steps leave the ray undecided, segment tracing; "
+          "approximate, never steps past the first root",
           {"epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto scene = std::make_shared<const BoundedScene>(tape, octree_bounds(o));
              return inside_and_out(tape, scene->bounds(), trace_options(o),
                                    [scene](const Ray& ray, const TraceOptions& opt) {
-                                       return bounded_sphere_trace(*scene, ray, opt);
+                                       // Where the bounding volumes give no distance (a leaf
+                                       // with no finite λ) or after kSphereSteps, segment
+                                       // tracing goes on.
+                                       const Deadline deadline(opt.seconds);
+                                       TraceOptions first = opt;
+                                       first.budget = std::min(opt.budget, kSphereSteps);
+                                       return segments_after(
+                                           scene->tape(), ray,
+                                           bounded_sphere_trace(*scene, ray, first), opt, deadline);
                                    });
          }},
         {{"analytic",

@@ -10,6 +10,8 @@
 #include "expr/derived.h"
 #include "expr/eval.h"
 #include "expr/prune.h"
+#include "tracers/march.h"
+#include "tracers/segment_trace.h"
 #include "tracers/sphere_trace.h"
 
 namespace certray::tracers {
@@ -313,7 +315,20 @@ RayResult Octree::certified(const Ray& ray, const solvers::CertifiedOptions& opt
     return finish();
 }
 
-RayResult Octree::sphere(const Ray& ray, double epsilon, std::uint64_t budget) const {
+namespace {
+
+/// An enclosure of g over [t0, t1] (the box o + [t0, t1]·d, rounded outward).
+Interval segment_value(const expr::Tape& tape, const Ray& ray, double t0, double t1) {
+    thread_local expr::Evaluator<Interval> eval;
+    std::array<Interval, 3> box;
+    const Interval t(t0, t1);
+    for (int i = 0; i < 3; ++i) box[i] = Interval(ray.o[i]) + t * Interval(ray.d[i]);
+    return eval(tape, box);
+}
+
+}  // namespace
+
+RayResult Octree::sphere(const Ray& ray, const TraceOptions& options) const {
     thread_local std::vector<Segment> segments;
     RayResult r;
     r.status = Status::Miss;
@@ -326,20 +341,46 @@ RayResult Octree::sphere(const Ray& ray, double epsilon, std::uint64_t budget) c
     const Interval in = ray_box(ray, bounds_);
     if (in.is_empty()) return r;
     walk(ray, std::max(ray.tmin, in.lower()), std::min(ray.tmax, in.upper()), segments);
-    TraceOptions opt;
-    opt.epsilon = epsilon;
+    const Deadline deadline(options.seconds);
+    // What is left of the ray's budgets, for a tracer of one piece; false when nothing is.
+    TraceOptions opt = options;
+    auto left = [&]() {
+        if (r.evals.total() >= options.budget || deadline.passed()) return false;
+        opt.budget = options.budget - r.evals.total();
+        opt.seconds = deadline.seconds_left();
+        return true;
+    };
     // Each ambiguous leaf's segment is sphere traced (tracers/sphere_trace.h) with the leaf's
-    // pruned tape and λ; empty and full cells are skipped.
+    // pruned tape and λ; empty and full cells are skipped. Where that cannot go on, segment
+    // tracing takes over from where it stopped.
+    detail::LocalBounds local;  // carried from cell to cell along the ray
     for (const Segment& seg : segments) {
+        if (!left()) return unknown(seg.t0);
         const Node& n = nodes_[seg.node];
-        if (!segment_inside(ray, seg.t0, seg.t1, inflate(n.box)) || !(n.lambda < kInf) ||
-            r.evals.total() >= budget) {
-            return unknown(seg.t0);
+        const bool inside = segment_inside(ray, seg.t0, seg.t1, inflate(n.box));
+        const expr::Tape& tape = inside ? *tapes_[n.tape] : tape_;
+        // The enclosure of g over the leaf's segment first (one interval evaluation): where it
+        // excludes 0 there is no zero on the segment (where g is defined), and nothing to trace.
+        r.evals.interval += 1;
+        if (!possibly_zero(segment_value(tape, ray, seg.t0, seg.t1))) continue;
+        if (!left()) return unknown(seg.t0);
+        RayResult p;
+        p.status = Status::Unknown;
+        p.t_lo = seg.t0;
+        if (inside && n.lambda < kInf) {
+            local.useful = true;  // a new cell, a new λ
+            TraceOptions cell = opt;
+            cell.budget = std::min(opt.budget, kSphereStepsPerCell);
+            p = detail::sphere_trace(tape, Ray{ray.o, ray.d, seg.t0, seg.t1}, n.lambda, cell,
+                                     local);
+            r.evals += p.evals;
         }
-        opt.budget = budget - r.evals.total();
-        const RayResult p =
-            sphere_trace(*tapes_[n.tape], Ray{ray.o, ray.d, seg.t0, seg.t1}, n.lambda, opt);
-        r.evals += p.evals;
+        // Unknown (also after kSphereStepsPerCell): no root on [t0, p.t_lo); segment tracing on the
+        // rest of the leaf's segment.
+        if (p.status == Status::Unknown && std::isfinite(p.t_lo) && left()) {
+            p = segment_trace(tape, Ray{ray.o, ray.d, p.t_lo, seg.t1}, opt);
+            r.evals += p.evals;
+        }
         if (p.status == Status::Miss) continue;
         if (p.status == Status::Unknown) return unknown(p.t_lo);
         r.status = Status::Hit;

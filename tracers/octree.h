@@ -15,6 +15,10 @@
 //   - sphere(): tracers/sphere_trace.h on each ambiguous leaf's segment with the leaf's pruned
 //     tape and local λ, inside the bounds (outside them the scene is taken as empty: an
 //     approximate method that never steps past a root inside the bounds when the λ are sound).
+//     Where a leaf has no finite λ (a pole, the edge of f's domain) or sphere tracing ends
+//     unknown with budget and time left, segment tracing (tracers/segment_trace.h) goes on from
+//     where it stopped, on the leaf's pruned tape (never past the first root either). The whole
+//     ray shares one budget of evaluations and one of time (TraceOptions::seconds).
 // Memory is bounded by `max_nodes`; a pruned tape equal to its parent's is shared, not copied.
 // Reference: docs/theory/octree.md.
 #pragma once
@@ -31,6 +35,8 @@
 #include "solvers/ray.h"
 
 namespace certray::tracers {
+
+struct TraceOptions;  // tracers/march.h
 
 struct OctreeOptions {
     /// Subdivision depth of the deepest leaves (the root cell is depth 0).
@@ -59,8 +65,9 @@ class Octree {
 
     /// The first root along the ray, certified (see the file contract).
     RayResult certified(const Ray& ray, const solvers::CertifiedOptions& options) const;
-    /// Sphere tracing with local constants inside the bounds: Hit when |f|/λ < epsilon.
-    RayResult sphere(const Ray& ray, double epsilon, std::uint64_t budget) const;
+    /// Sphere tracing with local constants inside the bounds: Hit when |f|/λ < epsilon (see the
+    /// file contract); options.budget and options.seconds bound the whole ray.
+    RayResult sphere(const Ray& ray, const TraceOptions& options) const;
 
     /// An ambiguous leaf met by a ray, with the parameter segment [t0, t1] it covers.
     struct Segment {

@@ -32,6 +32,11 @@ using I = UpInterval;  // only inside a RoundingScope (segment_model, Scratch::e
 
 bool has(const I& k) { return !k.is_empty(); }
 bool is_zero(const I& x) { return x.lower() == 0 && x.upper() == 0; }
+/// The same enclosure (bounds and decoration): φ of one is φ of the other, computed once (the
+/// plain enclosure vt equals the segment's v wherever no switch cut shortened the segment).
+bool same(const I& a, const I& b) {
+    return a.lower() == b.lower() && a.upper() == b.upper() && a.defined == b.defined;
+}
 /// Hull ignoring empty operands (empty = no kink).
 I khull(const I& a, const I& b) {
     if (a.is_empty()) return b;
@@ -198,7 +203,7 @@ RayJet exp(const RayJet& u) {
     r.p0 = exp(u.p0);
     r.p1 = r.p0 * u.p1;
     r.v = exp(u.v);
-    r.vt = exp(u.vt);
+    r.vt = same(u.vt, u.v) ? r.v : exp(u.vt);
     r.d1 = r.v * u.d1;
     r.d2 = r.v * (u.d2 + square(u.d1));
     r.k = has(u.k) ? exp(u.k) : u.k;
@@ -212,7 +217,7 @@ RayJet log(const RayJet& u) {
     r.p0 = log(u.p0);
     r.p1 = u.p1 / u.p0;
     r.v = log(u.v);
-    r.vt = log(u.vt);
+    r.vt = same(u.vt, u.v) ? r.v : log(u.vt);
     r.d1 = u.d1 / u.v;
     r.d2 = u.d2 / u.v - square(r.d1);
     r.k = has(u.k) ? log(u.k) : u.k;

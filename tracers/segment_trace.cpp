@@ -231,8 +231,8 @@ struct Scratch {
             }
             step.sweep = true;
             const UpInterval& g = values[src.back().out];
-            if (g.defined && !g.is_empty() && !possibly_zero(g)) {
-                step.free = true;  // g is continuous and ≠ 0 on [t, end]
+            if (!possibly_zero(g)) {
+                step.free = true;  // g ≠ 0 on [t, end] wherever it is defined
                 return step;
             }
             plain_pushed = push_values(src, t, end);
@@ -315,13 +315,19 @@ RayResult segment_trace(const expr::Tape& tape, const Ray& ray, const TraceOptio
             continue;
         }
         const SegmentModel& m = step.m;
-        if (m.g0.is_empty() || !m.g0.defined) return unknown(t);
-        if (possibly_zero(m.g0)) return hit(t, t);  // |g(t)| cannot be told from 0
-        if (t >= ray.tmax) break;                   // g(tmax) ≠ 0 and [tmin, tmax) is free
         const Interval span = Interval(end) - Interval(t);
         const double len = span.lower();  // |T| rounded down
-        const bool cont = m.g.defined && !m.g.is_empty();
-        bool free = cont && !possibly_zero(m.g);
+        // 0 ∉ G(T): no zero on T, where g is defined or not (a zero needs g defined; a pole or a
+        // gap of f's domain inside T is passed, as the certified solver passes it).
+        bool free = !possibly_zero(m.g);
+        // g proven defined at t (else, at a pole or outside f's domain, no bound starts at t: a
+        // shorter segment may still exclude a zero by its value).
+        const bool at_t = !m.g0.is_empty() && m.g0.defined;
+        if (!free && at_t) {
+            if (possibly_zero(m.g0)) return hit(t, t);  // |g(t)| cannot be told from 0
+            if (t >= ray.tmax) break;                   // g(tmax) ≠ 0 and [tmin, tmax) is free
+        }
+        const bool cont = at_t && m.g.defined && !m.g.is_empty();
         Steps st;
         if (!free && cont) {
             st = steps<Interval>(m, len, so.second_order, so.certify);
@@ -334,14 +340,16 @@ RayResult segment_trace(const expr::Tape& tape, const Ray& ray, const TraceOptio
             // Next: longer, or up to a few times the next switch seen when this one was cut at a
             // switch, or the rest of the ray when that is not much longer.
             s = so.growth * len;
-            if (len < proposed && so.next_factor > 0 && next_end < kInf) {
+            // (A switch seen at the very end of the cut segment gives no length: growth then.)
+            if (len < proposed && so.next_factor > 0 && next_end < kInf && next_end > end) {
                 s = so.next_factor * (next_end - end);
             }
             if (so.tail > 0 && s > so.tail * (ray.tmax - t)) s = kInf;
             continue;
         }
         if (!cont) {
-            // No bound on this segment (g undefined or not continuous somewhere in it): shrink.
+            // No bound on this segment (g undefined at t, or undefined or not continuous somewhere
+            // in it): shrink.
             const double shorter = s == kInf ? std::max(1.0, std::fabs(t)) / dn : len / 8;
             if (!(shorter > 0) || !(detail::add_up(t, shorter) > t)) return unknown(t);
             s = shorter;
@@ -374,8 +382,8 @@ RayResult segment_trace(const expr::Tape& tape, const Ray& ray, const TraceOptio
 
 std::vector<SegmentOptions> segment_presets() {
     std::vector<SegmentOptions> v(7);
-    v[1].name = "fast";  // also prune long pruned lists by an interval sweep
-    v[1].sweep_pruned_above = 2000;
+    v[1].name = "no-sweep";  // sweep the whole tape only (the default before session 6)
+    v[1].sweep_pruned_above = std::numeric_limits<std::size_t>::max();
     v[2].name = "no-switch";
     v[2].switch_floor = 0;
     v[3].name = "1st-order";

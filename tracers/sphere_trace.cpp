@@ -18,25 +18,34 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// The signed distance bound |g|/λ at t from the tape and a global λ (space units). Where it
-/// falls below epsilon — where the tracer would stop — and g is certainly not 0, it is checked
-/// against a local λ over the point's box inflated by ρ = 16·epsilon: min(|g|/λ_local, ρ) is a
-/// distance bound too (a surface point within ρ is reached inside that box; a farther one is
-/// farther than ρ), and the larger bound is kept. So a global λ that is merely loose (a chain of
-/// smooth unions: 10¹⁷⁰) no longer stops the tracer far from any surface; it crawls and ends
-/// unknown instead of answering a false hit. Counted as one gradient evaluation.
+/// The signed distance bound |g|/λ at t from the tape and a global λ (space units), improved by a
+/// local λ over the point's box inflated by ρ: min(|g|/λ_local, ρ) is a distance bound too (a
+/// surface point within ρ is reached inside that box; a farther one is farther than ρ), and the
+/// larger bound is kept. ρ = max(16·epsilon, 2 × the previous bound): where the global λ is loose
+/// (a cell of Fidget's bear: 10¹⁸; a chain of smooth unions: 10¹⁷⁰) the free radius then doubles
+/// from step to step instead of crawling at |g|/λ. Tried where the global bound is below ρ/2;
+/// once a local bound has not beaten the global one by 2× on a ray (λ is tight there), only where
+/// the global bound falls below epsilon — where the tracer would stop — so that a merely loose λ
+/// never stops the tracer far from any surface. Each local bound is one gradient evaluation.
 Interval tape_distance(const expr::Tape& tape, const Ray& ray, double lambda, double t,
-                       double epsilon, EvalCounts& evals) {
+                       double epsilon, detail::LocalBounds& local, EvalCounts& evals) {
     const std::array<Interval, 3> p = detail::point_box(ray, t);
     thread_local expr::Evaluator<Interval> eval;
     const Interval v = eval(tape, p);
     if (!detail::usable(v)) return v;
     Interval d = detail::distance_bound(v, lambda);
-    if (lambda > 0 && detail::mignitude(d) < epsilon && !contains(v, 0.0)) {
+    const double global = detail::mignitude(d);
+    const double rho = local.useful ? std::max(16 * epsilon, 2 * local.previous) : 16 * epsilon;
+    if (lambda > 0 && !contains(v, 0.0) && (local.useful ? global < rho / 2 : global < epsilon)) {
         ++evals.gradient;
-        const Interval near = detail::local_distance_bound(tape, p, v, 16 * epsilon);
-        if (detail::usable(near) && detail::mignitude(near) > detail::mignitude(d)) d = near;
+        const Interval near = detail::local_distance_bound(tape, p, v, rho);
+        const double m = detail::usable(near) ? detail::mignitude(near) : 0.0;
+        if (m > global) d = near;
+        if (local.useful && !(m >= 2 * global)) local.useful = false;
     }
+    // ρ next: twice this bound, but at least half this ρ (where the local λ grows fast with the
+    // box, as under exponential blends, a bound far below ρ would restart the doubling low).
+    local.previous = std::max(detail::mignitude(d), local.useful ? rho / 4 : 0.0);
     return d;
 }
 
@@ -141,7 +150,7 @@ double global_lipschitz(const expr::Tape& tape, const std::array<Interval, 3>& b
 namespace {
 
 RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const TraceOptions& opt,
-                double kappa) {
+                double kappa, detail::LocalBounds& local) {
     if (std::isnan(lambda) || lambda < 0 || lambda == kInf) {
         RayResult r;
         r.status = Status::Unknown;
@@ -151,7 +160,7 @@ RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const Tra
     }
     return detail::trace_distance(
         [&](double t, EvalCounts& evals) {
-            return tape_distance(tape, ray, lambda, t, opt.epsilon, evals);
+            return tape_distance(tape, ray, lambda, t, opt.epsilon, local, evals);
         },
         [&](double t, EvalCounts& evals) {
             ++evals.gradient;
@@ -164,12 +173,23 @@ RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const Tra
 
 RayResult sphere_trace(const expr::Tape& tape, const Ray& ray, double lambda,
                        const TraceOptions& options) {
-    return trace(tape, ray, lambda, options, 0.0);
+    detail::LocalBounds local;
+    return trace(tape, ray, lambda, options, 0.0, local);
 }
 
 RayResult enhanced_trace(const expr::Tape& tape, const Ray& ray, double lambda,
                          const TraceOptions& options) {
-    return trace(tape, ray, lambda, options, options.kappa);
+    detail::LocalBounds local;
+    return trace(tape, ray, lambda, options, options.kappa, local);
 }
+
+namespace detail {
+
+RayResult sphere_trace(const expr::Tape& tape, const Ray& ray, double lambda,
+                       const TraceOptions& options, LocalBounds& local) {
+    return trace(tape, ray, lambda, options, 0.0, local);
+}
+
+}  // namespace detail
 
 }  // namespace certray::tracers

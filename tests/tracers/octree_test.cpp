@@ -7,7 +7,9 @@
 #include <rapidcheck/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 
@@ -20,6 +22,7 @@
 #include "tests/support/generators.h"
 #include "tests/support/independent_oracle.h"
 #include "tests/support/random_dag.h"
+#include "tracers/march.h"
 
 namespace certray::tracers {
 namespace {
@@ -125,10 +128,51 @@ TEST(Octree, CertifiedProvesRootsOnCellFaces) {
 TEST(Octree, SphereTracingWithLocalConstants) {
     const Tape s = tape_of("q = sqrt(x^2 + y^2) - 1\nsqrt(q^2 + z^2) - 0.25");
     const Octree tree(s, kCube, {5, 1u << 20});
-    const RayResult r = tree.sphere(Ray{{-3, 0, 0}, {1, 0, 0}, 0, 10}, 1e-9, 100000);
+    TraceOptions opt;
+    opt.epsilon = 1e-9;
+    opt.budget = 100000;
+    const RayResult r = tree.sphere(Ray{{-3, 0, 0}, {1, 0, 0}, 0, 10}, opt);
     ASSERT_EQ(r.status, Status::Hit);
     EXPECT_LE(r.t, 1.75);  // never past the root 3 − 1.25
     EXPECT_NEAR(r.t, 1.75, 1e-8);
+}
+
+TEST(Octree, SphereTracingGoesOnBySegmentsWhereACellHasNoFiniteBound) {
+    // A box (max of planes) united with 1 + exp(−1/x²) ≥ 1, undefined at x = 0 only: the cells
+    // holding x = 0 have no finite λ. From (−3, 0, 0) along +x the first zero is the box's face
+    // x = 1.5, t = 4.5. Sphere tracing stopped unknown at the first such cell; segment tracing
+    // now takes it over there, and the ray reaches the face, never past it.
+    const Tape s = tape_of(
+        "min(max(max(1.5 - x, x - 2.5), max(abs(y) - 1, abs(z) - 1)), 1 + exp(-1 / (x * x)))");
+    const Octree tree(s, kCube, {5, 1u << 20});
+    TraceOptions opt;
+    opt.seconds = 0;
+    const RayResult r = tree.sphere(Ray{{-3, 0, 0}, {1, 0, 0}, 0, 10}, opt);
+    ASSERT_EQ(r.status, Status::Hit);
+    EXPECT_LE(r.t, 4.5);
+    EXPECT_GE(r.t, 4.5 - 1e-5);
+}
+
+TEST(Octree, SphereTracingEndsARunAwayRayAtItsDeadline) {
+    // z − 1e-7 + (x − x)·sin(10⁶x) is −1e-7 on the plane z = 0, but (x − x)·sin(10⁶x) keeps 0 in
+    // every enclosure over a piece of the ray longer than about 1e-7, and its derivative's
+    // enclosure is about ±10⁶ × the piece's length: sphere tracing (64 steps per cell) and then
+    // segment tracing crawl in steps below 1e-6 (2·10⁶ evaluations, 3 s, cross a quarter of the
+    // cube). With a budget that never stops it, the ray's time does: unknown after about
+    // `seconds`; without the deadline it ran for tens of seconds.
+    const Tape s = tape_of("z - 1e-7 + (x - x) * sin(1000000 * x)");
+    const Octree tree(s, kCube, {5, 1u << 20});
+    TraceOptions opt;
+    opt.epsilon = 1e-9;
+    opt.budget = std::uint64_t{1} << 62;
+    opt.seconds = 0.05;
+    const auto start = std::chrono::steady_clock::now();
+    const RayResult r = tree.sphere(Ray{{-3, 0, 0}, {1, 0, 0}, 0, 10}, opt);
+    const double took =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(r.status, Status::Unknown);
+    EXPECT_GE(r.t_lo, 1.0);  // the ray enters the cube at t = 1; nothing is known past t_lo
+    EXPECT_LT(took, 1.0);
 }
 
 // Every cell the octree marks empty (f > 0) or full (f < 0) keeps that sign at random points,
@@ -209,7 +253,10 @@ RC_GTEST_PROP(OctreeProperty, SphereTracingNeverPassesTheFirstRoot, ()) {
         ray.tmin = std::max(ray.tmin, in.upper() < 0 ? 0.0 : std::max(0.0, in.lower()));
         ray.tmax = std::min(ray.tmax, in.upper());
         if (!(ray.tmin < ray.tmax)) continue;
-        const RayResult s = tree.sphere(ray, 1e-7, 20000);
+        TraceOptions opt;
+        opt.epsilon = 1e-7;
+        opt.seconds = 0;
+        const RayResult s = tree.sphere(ray, opt);
         const RayResult c = solvers::certified_first_root(t, ray, {20000});
         RC_LOG() << "ray o (" << ray.o[0] << ", " << ray.o[1] << ", " << ray.o[2] << ") d ("
                  << ray.d[0] << ", " << ray.d[1] << ", " << ray.d[2] << ") t [" << ray.tmin << ", "

@@ -299,6 +299,44 @@ TEST(SegmentTrace, TimeBudgetEndsARayUnknown) {
     EXPECT_EQ(segment_trace(tape, ray, opt).status, Status::Miss);
 }
 
+TEST(SegmentTrace, PassesAPoleWhereTheFieldStaysBounded) {
+    // A box (max of four planes) united (min) with 1 + exp(−1/x²), which is ≥ 1 where it is
+    // defined and undefined at x = 0 only (1/0), with its enclosures bounded around that point: as
+    // in Fidget's bear. From (−1, 0, 0) along +x the first zero is the box's face x = 1.5, t = 2.5
+    // (the second term is ≥ 1 > 0). Segment tracing passes the pole by the value of g over a
+    // segment holding it (0 ∉ G(T): no zero there, defined or not), as the certified solver does;
+    // it stopped there, unknown at t = 1.
+    const Tape t = tape_of(
+        "min(max(max(1.5 - x, x - 2.5), max(abs(y) - 1, abs(z) - 1)), 1 + exp(-1 / (x * x)))");
+    const Ray ray{{-1, 0, 0}, {1, 0, 0}, 0, 4};
+    for (const SegmentOptions& so : variants()) {
+        TraceOptions o;
+        o.seconds = 0;
+        const RayResult r = segment_trace(t, ray, o, so);
+        ASSERT_EQ(r.status, Status::Hit) << so.name;
+        EXPECT_LE(r.t, 2.5) << so.name;  // never past the first root
+        EXPECT_GE(r.t, 2.5 - o.epsilon) << so.name;
+        EXPECT_LT(r.evals.total(), 100u) << so.name;
+    }
+}
+
+TEST(SegmentTrace, ASwitchAtTheEndOfACutSegmentStillMovesOn) {
+    // 5 + min(x, 1) + max(x, 1)/2 ≥ 5.5 > 0 for x ≥ 0: no zero on [0, 3]. Both switches sit at
+    // x = 1: the first cuts the segment there, the second is then seen at its very end, and the
+    // next segment had length 0 (next_factor × 0): the tracer spun at t = 1 until its budget ran
+    // out (unknown) instead of proving the miss.
+    const Tape t = tape_of("5 + min(x, 1) + max(x, 1) / 2");
+    for (const double dy : {0.0, 1e-3}) {
+        const Ray ray{{0, 0, 0}, {1, dy, 0}, 0, 3};
+        TraceOptions o;
+        o.seconds = 0;
+        o.budget = 2000;
+        const RayResult r = segment_trace(t, ray, o);
+        EXPECT_EQ(r.status, Status::Miss) << dy;
+        EXPECT_LT(r.evals.total(), 50u) << dy;
+    }
+}
+
 TEST(SegmentTrace, SmoothThinShell) {
     // (|p|² − 1)² − 1e-8 < 0 only for |p|² ∈ (1 − 1e-4, 1 + 1e-4): a shell about 1e-4 thick.
     // From (0, 0, −3) along +z the first root is |p|² = 1 + 1e-4: t = 3 − √1.0001.

@@ -132,13 +132,18 @@ TEST(Tracers, DegenerateRays) {
     EXPECT_EQ(enhanced_trace(s, ray, std::nan(""), o).status, Status::Unknown);
 }
 
-TEST(Tracers, UndefinedFieldIsUnknown) {
-    // sqrt(x) is undefined for x < 0: at the origin of this ray.
+TEST(Tracers, UndefinedFieldAtTheStartOfTheRay) {
+    // sqrt(x) is undefined for x < 0: at the origin of this ray. Sphere tracing and marching stop
+    // there; segment tracing skips the segments where g has no value (a zero needs g defined, as
+    // for the certified solver) and finds the zero x = 1 at t = 2, never past it.
     const Tape s = tape_of("sqrt(x) - 1");
     const Ray ray{{-1, 0, 0}, {1, 0, 0}, 0, 5};
     EXPECT_EQ(sphere_trace(s, ray, 1.0, {}).status, Status::Unknown);
-    EXPECT_EQ(segment_trace(s, ray, {}).status, Status::Unknown);
     EXPECT_EQ(march(s, ray, {}).status, Status::Unknown);
+    const RayResult r = segment_trace(s, ray, {});
+    ASSERT_EQ(r.status, Status::Hit);
+    EXPECT_LE(r.t_lo, 2.0);
+    EXPECT_GE(r.t_hi, 2.0 - 1e-6);
 }
 
 TEST(Tracers, ThinShellSkippedByMarchFoundBySphereTracing) {
@@ -167,6 +172,24 @@ TEST(Tracers, OverRelaxedStepAcrossTheSurfaceIsTakenBack) {
     ASSERT_EQ(r.status, Status::Hit);
     EXPECT_LE(r.t, 2.0);
     EXPECT_GE(r.t, 2.0 - 1e-6);
+}
+
+TEST(Tracers, LooseLambdaIsOutgrownByLocalBounds) {
+    // A cube (max of |x|, |y|, |z| − 1) united (min) with a sphere of radius 1 at (3, 0, 0):
+    // 1-Lipschitz, first zero from (0, 0, −3) along +z at the cube's face z = −1, t = 2. With a
+    // sound but loose λ = 10⁶ the steps |g|/λ are 2·10⁻⁶: the budget ran out after 0.04 of the
+    // way (unknown). Local bounds over boxes that double from step to step reach the face.
+    const Tape s =
+        tape_of("min(max(max(abs(x), abs(y)), abs(z)) - 1, sqrt((x - 3)^2 + y^2 + z^2) - 1)");
+    const Ray ray{{0, 0, -3}, {0, 0, 1}, 0, 10};
+    TraceOptions o;
+    o.seconds = 0;
+    for (const RayResult& r : {sphere_trace(s, ray, 1e6, o), enhanced_trace(s, ray, 1e6, o)}) {
+        ASSERT_EQ(r.status, Status::Hit);
+        EXPECT_LE(r.t, 2.0);
+        EXPECT_GE(r.t, 2.0 - 1e-5);
+        EXPECT_LT(r.evals.total(), 400u);
+    }
 }
 
 TEST(Tracers, BrokenLambdaOvershoots) {
