@@ -2,8 +2,11 @@
 #include "certray/query.h"
 
 #include <cmath>
+#include <optional>
 #include <string>
+#include <utility>
 
+#include "tracers/coherent.h"
 #include "tracers/parallel.h"
 
 namespace certray {
@@ -37,12 +40,33 @@ tracers::RayFunction prepare(const Scene& scene, const QueryOptions& options) {
     return tracers::make_method(options.method, scene.tape(), mo);
 }
 
+/// The rays answered together by the coherent walk, when they form a bundle and the method is
+/// `certified`: its knobs (budget, tighten) as the per-ray method reads them.
+std::optional<std::vector<RayResult>> query_bundle(const Scene& scene, std::span<const Ray> rays,
+                                                   const QueryOptions& options) {
+    if (!options.coherent || options.cancel != nullptr) return std::nullopt;
+    if (tracers::method_info(options.method).name != "certified") return std::nullopt;
+    const tracers::MethodOptions mo = tracers::resolve_knobs(options.method, options.knobs);
+    tracers::CoherentOptions co;
+    co.surface = options.surface;
+    co.render.threads = options.threads;
+    co.certified = solvers::CertifiedOptions{};
+    co.certified.budget = mo.budget;
+    co.certified.tighten = mo.tighten != 0;
+    std::optional<std::vector<RayResult>> out = tracers::query_coherent(scene.tape(), rays, co);
+    if (out && options.progress) options.progress(rays.size(), rays.size());
+    return out;
+}
+
 }  // namespace
 
 std::vector<RayResult> query(const Scene& scene, std::span<const Ray> rays,
                              const QueryOptions& options) {
     for (std::size_t i = 0; i < rays.size(); ++i) check_ray(rays[i], i);
     const tracers::RayFunction fn = prepare(scene, options);
+    if (std::optional<std::vector<RayResult>> bundle = query_bundle(scene, rays, options)) {
+        return std::move(*bundle);
+    }
     std::vector<RayResult> results(rays.size());
     tracers::ParallelOptions po;
     po.threads = options.threads;

@@ -89,6 +89,10 @@ int main(int argc, char** argv) {
     cmd_query->add_option("--threads", query.threads, "Worker threads (0: one per hardware thread)")
         ->capture_default_str();
     cmd_query->add_flag("-q,--quiet", query.quiet, "No progress on stderr");
+    cmd_query->add_flag("--per-ray", query.per_ray,
+                        "certified: answer camera-like rays (at least 256, all from one origin or "
+                        "all along one direction) one by one instead of together by the coherent "
+                        "walk (the same meaning; for comparison)");
     cmd_query
         ->add_option("--surface", query.surface,
                      "zero: the first t with f = 0; solid: the first entry into f < 0 (regions "

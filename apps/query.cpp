@@ -159,6 +159,7 @@ int run_query(const QueryOptions& options) {
     q.surface = tracers::parse_surface(options.surface);
     q.knobs = options.knobs;
     q.threads = options.threads;
+    q.coherent = !options.per_ray;
     const bool tty = isatty(STDERR_FILENO) != 0;
     const auto start = std::chrono::steady_clock::now();
     bool printed = false;

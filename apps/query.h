@@ -21,6 +21,7 @@ struct QueryOptions {
     std::string stats;             ///< STATS.json to write; empty for none
     unsigned threads = 0;          ///< worker threads; 0 means one per hardware thread
     bool quiet = false;            ///< no progress on stderr
+    bool per_ray = false;          ///< never answer camera-like rays together (coherent walk)
     std::string surface = "zero";  ///< zero or solid
     tracers::KnobValues knobs;     ///< the knobs the user set (validated against the registry)
 };

@@ -3,7 +3,9 @@
 //
 // Scenes: scenes/barth_sextic.vm over [−2, 2]³, framed as `certray render` frames it (the cells
 // where the surface may be, seen from (1, −2, 0.8), fov 35°), Fidget's 2D models
-// scenes/fidget/hi.vm and quarter.vm (prisms along z) over [−1, 1]³, and scenes/tanglecube.vm.
+// scenes/fidget/hi.vm and quarter.vm (prisms along z) over [−1, 1]³, scenes/tanglecube.vm, and
+// Fidget's 3D models scenes/fidget/bear.vm and colonnade.vm over [−1, 1]³ as solids (f < 0: what
+// Fidget and libfive draw; `solid` 1).
 // Pinhole and ortho (heightmap along −z) cameras; sizes 256², 512², 1024². Wall-clock time
 // (UseRealTime): the renders are threaded; the CPU column is the whole process's
 // (MeasureProcessCPUTime), steadier on a shared machine. `image` 1: the solver options an image
@@ -22,6 +24,7 @@
 #include "expr/load.h"
 #include "expr/tape.h"
 #include "solvers/certified.h"
+#include "solvers/solid.h"
 #include "tracers/camera.h"
 #include "tracers/coherent.h"
 #include "tracers/methods.h"
@@ -37,7 +40,9 @@ struct Scene {
 const Scene kScenes[] = {{CERTRAY_SCENES_DIR "/barth_sextic.vm", -2, 2},
                          {CERTRAY_SCENES_DIR "/fidget/hi.vm", -1, 1},
                          {CERTRAY_SCENES_DIR "/fidget/quarter.vm", -1, 1},
-                         {CERTRAY_SCENES_DIR "/tanglecube.vm", -2, 2}};
+                         {CERTRAY_SCENES_DIR "/tanglecube.vm", -2, 2},
+                         {CERTRAY_SCENES_DIR "/fidget/bear.vm", -1, 1},
+                         {CERTRAY_SCENES_DIR "/fidget/colonnade.vm", -1, 1}};
 
 const expr::Tape& tape_of(int scene) {
     static std::vector<expr::Tape> tapes = [] {
@@ -50,9 +55,10 @@ const expr::Tape& tape_of(int scene) {
 
 /// The options of a square image of `scene`: bounds, and the CLI's auto-framed pinhole camera;
 /// `image`: the solver options for images (no exact narrowing of hits, hit width 1e-6 relative).
-tracers::CoherentOptions options(int scene, unsigned side, bool ortho, unsigned threads,
-                                 bool image) {
+tracers::CoherentOptions options(int scene, unsigned side, bool ortho, unsigned threads, bool image,
+                                 bool solid = false) {
     tracers::CoherentOptions o;
+    o.surface = solid ? tracers::Surface::Solid : tracers::Surface::Zero;
     o.certified = image ? tracers::image_solver_options() : solvers::CertifiedOptions{};
     const Scene& s = kScenes[scene];
     o.render.width = o.render.height = side;
@@ -80,7 +86,7 @@ void BM_Coherent(benchmark::State& state) {
     const unsigned side = static_cast<unsigned>(state.range(1));
     const tracers::CoherentOptions o =
         options(scene, side, state.range(2) != 0, static_cast<unsigned>(state.range(3)),
-                state.range(4) != 0);
+                state.range(4) != 0, state.range(5) != 0);
     tracers::RenderResult r;
     tracers::CoherentStats s;
     for (auto _ : state) {
@@ -91,6 +97,7 @@ void BM_Coherent(benchmark::State& state) {
     report(state, r, px);
     state.counters["boxes/px"] = static_cast<double>(s.box_evals) / px;
     state.counters["leaves/px"] = static_cast<double>(s.leaf_solves) / px;
+    state.counters["leaf_evals/px"] = static_cast<double>(r.stats.evals.total() - s.box_evals) / px;
     state.counters["box_len"] =
         s.box_evals > 0 ? static_cast<double>(s.box_instructions) / s.box_evals : 0;
 }
@@ -100,13 +107,18 @@ void BM_PerRay(benchmark::State& state) {
     const int scene = static_cast<int>(state.range(0));
     const unsigned side = static_cast<unsigned>(state.range(1));
     const bool ortho = state.range(2) != 0;
-    const tracers::CoherentOptions o =
-        options(scene, side, ortho, static_cast<unsigned>(state.range(3)), state.range(4) != 0);
+    const bool solid = state.range(5) != 0;
+    const tracers::CoherentOptions o = options(
+        scene, side, ortho, static_cast<unsigned>(state.range(3)), state.range(4) != 0, solid);
     const tracers::PixelRays rays(o);
     const expr::Tape& tape = tape_of(scene);
     const solvers::CertifiedOptions co = o.certified;
-    const tracers::RayFunction certified = [&tape, co](const Ray& ray) {
-        return solvers::certified_first_root(tape, ray, co);
+    solvers::SolidOptions so;
+    so.budget = co.budget;
+    so.hit_width = co.hit_width;
+    const tracers::RayFunction certified = [&tape, co, so, solid](const Ray& ray) {
+        return solid ? solvers::solid_first_entry(tape, ray, so)
+                     : solvers::certified_first_root(tape, ray, co);
     };
     tracers::RenderResult r;
     for (auto _ : state) {
@@ -147,39 +159,52 @@ void BM_PerRay(benchmark::State& state) {
     report(state, r, static_cast<double>(side) * side);
 }
 
-// Arguments: scene (0 Barth, 1 hi, 2 quarter, 3 tanglecube), side, ortho, threads, image options.
+// Arguments: scene (0 Barth, 1 hi, 2 quarter, 3 tanglecube, 4 Fidget's bear, 5 Fidget's
+// colonnade), side, ortho, threads, image options, solid surface.
 BENCHMARK(BM_Coherent)
-    ->ArgNames({"scene", "side", "ortho", "threads", "image"})
-    ->Args({0, 512, 0, 2, 0})
-    ->Args({0, 512, 0, 2, 1})
-    ->Args({0, 512, 1, 2, 0})
-    ->Args({0, 512, 1, 2, 1})
-    ->Args({0, 512, 0, 1, 1})
-    ->Args({0, 256, 0, 2, 1})
-    ->Args({0, 1024, 0, 2, 1})
-    ->Args({0, 256, 1, 2, 1})
-    ->Args({0, 1024, 1, 2, 1})
-    ->Args({1, 256, 1, 2, 1})
-    ->Args({1, 512, 1, 2, 1})
-    ->Args({2, 256, 1, 2, 1})
-    ->Args({2, 512, 1, 2, 1})
-    ->Args({1, 256, 0, 2, 1})
-    ->Args({2, 256, 0, 2, 1})
-    ->Args({3, 512, 0, 2, 1})
+    ->ArgNames({"scene", "side", "ortho", "threads", "image", "solid"})
+    ->Args({0, 512, 0, 2, 0, 0})
+    ->Args({0, 512, 0, 2, 1, 0})
+    ->Args({0, 512, 1, 2, 0, 0})
+    ->Args({0, 512, 1, 2, 1, 0})
+    ->Args({0, 512, 0, 1, 1, 0})
+    ->Args({0, 256, 0, 2, 1, 0})
+    ->Args({0, 1024, 0, 2, 1, 0})
+    ->Args({0, 256, 1, 2, 1, 0})
+    ->Args({0, 1024, 1, 2, 1, 0})
+    ->Args({1, 256, 1, 2, 1, 0})
+    ->Args({1, 512, 1, 2, 1, 0})
+    ->Args({2, 256, 1, 2, 1, 0})
+    ->Args({2, 512, 1, 2, 1, 0})
+    ->Args({1, 256, 0, 2, 1, 0})
+    ->Args({2, 256, 0, 2, 1, 0})
+    ->Args({3, 512, 0, 2, 1, 0})
+    ->Args({4, 256, 1, 2, 1, 1})
+    ->Args({4, 512, 1, 2, 1, 1})
+    ->Args({4, 256, 0, 2, 1, 1})
+    ->Args({4, 512, 0, 2, 1, 1})
+    ->Args({5, 256, 1, 2, 1, 1})
+    ->Args({5, 512, 1, 2, 1, 1})
+    ->Args({5, 256, 0, 2, 1, 1})
+    ->Args({5, 512, 0, 2, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime();
 BENCHMARK(BM_PerRay)
-    ->ArgNames({"scene", "side", "ortho", "threads", "image"})
-    ->Args({0, 512, 0, 2, 0})
-    ->Args({0, 512, 0, 2, 1})
-    ->Args({0, 512, 1, 2, 0})
-    ->Args({0, 512, 1, 2, 1})
-    ->Args({1, 256, 1, 2, 1})
-    ->Args({2, 256, 1, 2, 1})
-    ->Args({1, 256, 0, 2, 1})
-    ->Args({2, 256, 0, 2, 1})
-    ->Args({3, 512, 0, 2, 1})
+    ->ArgNames({"scene", "side", "ortho", "threads", "image", "solid"})
+    ->Args({0, 512, 0, 2, 0, 0})
+    ->Args({0, 512, 0, 2, 1, 0})
+    ->Args({0, 512, 1, 2, 0, 0})
+    ->Args({0, 512, 1, 2, 1, 0})
+    ->Args({1, 256, 1, 2, 1, 0})
+    ->Args({2, 256, 1, 2, 1, 0})
+    ->Args({1, 256, 0, 2, 1, 0})
+    ->Args({2, 256, 0, 2, 1, 0})
+    ->Args({3, 512, 0, 2, 1, 0})
+    ->Args({4, 256, 1, 2, 1, 1})
+    ->Args({4, 256, 0, 2, 1, 1})
+    ->Args({5, 256, 1, 2, 1, 1})
+    ->Args({5, 256, 0, 2, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime()

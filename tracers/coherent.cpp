@@ -8,7 +8,9 @@
 #include "tracers/coherent.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -99,7 +101,7 @@ class Walker {
           results_(results),
           solid_(options.surface == Surface::Solid),
           choices_(has_choices(tape.ssa())),
-          t_splits_(rays.projection() == Projection::Pinhole || tape.uses_var(2)),
+          t_splits_(rays.projection() != Projection::Ortho || tape.uses_var(2)),
           levels_(kMaxDepth) {
         solid_options_.budget = options.certified.budget;
         solid_options_.hit_width = options.certified.hit_width;
@@ -342,9 +344,8 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
             spread_o = std::max(spread_o, ohi[c] - olo[c]);
             spread_d = std::max(spread_d, dhi[c] - dlo[c]);
         }
-        const bool pinhole = rays_.projection() == Projection::Pinhole;
-        const double lateral =
-            spread_o + std::fabs(b) * spread_d + rays_.pixel_pitch() * (pinhole ? std::fabs(b) : 1);
+        const double lateral = spread_o + std::fabs(b) * spread_d +
+                               rays_.pixel_pitch() * (rays_.angular() ? std::fabs(b) : 1);
         if (t_splits_ && b - a > options_.aspect * lateral && splittable(a, b)) {
             // Near segment first: the far one only sees the rays the near one left open.
             const double m = 0.5 * a + 0.5 * b;
@@ -469,7 +470,11 @@ PixelRays::PixelRays(const CoherentOptions& options)
     const RenderOptions& r = options.render;
     if (r.width == 0 || r.height == 0) throw std::invalid_argument("render: empty image size");
     NearestScope env;
+    if (projection_ == Projection::List) {
+        throw std::invalid_argument("render: a ray list needs its rays (bundle_rays)");
+    }
     if (projection_ == Projection::Pinhole) {
+        angular_ = true;
         frame_.emplace(r.camera, r.width, r.height);
         pitch_ = std::tan(r.camera.fov_degrees * (M_PI / 360.0)) / (0.5 * r.height);
         return;
@@ -487,7 +492,26 @@ PixelRays::PixelRays(const CoherentOptions& options)
     pitch_ = std::max(dx_, dy_);
 }
 
+PixelRays::PixelRays(std::span<const Ray> rays, unsigned width, unsigned height,
+                     std::vector<std::uint32_t> cells, double pitch, bool angular)
+    : projection_(Projection::List),
+      angular_(angular),
+      list_(rays),
+      cells_(std::move(cells)),
+      width_(width),
+      pitch_(pitch) {
+    if (width == 0 || height == 0 || cells_.size() != std::size_t{width} * height) {
+        throw std::invalid_argument("ray bundle: the grid does not match its size");
+    }
+}
+
 bool PixelRays::ray(unsigned i, unsigned j, Ray& ray) const {
+    if (projection_ == Projection::List) {
+        const std::uint32_t k = cells_[std::size_t{j} * width_ + i];
+        if (k == kNoRay) return false;
+        ray = list_[k];
+        return true;
+    }
     NearestScope env;
     if (projection_ == Projection::Pinhole) {
         ray = frame_->ray(i + 0.5, j + 0.5);
@@ -502,7 +526,15 @@ bool PixelRays::ray(unsigned i, unsigned j, Ray& ray) const {
 
 RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& options,
                                 CoherentStats* stats, std::vector<RayResult>* results) {
-    const PixelRays rays(options);
+    return render_3d_coherent(tape, options, PixelRays(options), stats, results);
+}
+
+RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& options,
+                                const PixelRays& rays, CoherentStats* stats,
+                                std::vector<RayResult>* results) {
+    if (options.render.width == 0 || options.render.height == 0) {
+        throw std::invalid_argument("render: empty image size");
+    }
     if (options.root_tile == 0) throw std::invalid_argument("render: root tile side must be >= 1");
     const auto start = std::chrono::steady_clock::now();
     RenderResult result;
@@ -580,6 +612,98 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
     result.image = colorize(ans, options.render.aov, options.render.light);
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
+}
+
+std::optional<PixelRays> bundle_rays(std::span<const Ray> rays, std::size_t min_rays) {
+    const std::size_t n = rays.size();
+    if (n == 0 || n < min_rays || n >= PixelRays::kNoRay) return std::nullopt;
+    NearestScope env;
+    auto same = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+        return std::bit_cast<std::array<std::uint64_t, 3>>(a) ==
+               std::bit_cast<std::array<std::uint64_t, 3>>(b);
+    };
+    bool one_origin = true, one_direction = true;
+    for (const Ray& r : rays) {
+        one_origin = one_origin && same(r.o, rays[0].o);
+        one_direction = one_direction && same(r.d, rays[0].d);
+        if (r.d[0] == 0 && r.d[1] == 0 && r.d[2] == 0) return std::nullopt;
+    }
+    if (!one_origin && !one_direction) return std::nullopt;
+    // The bundle's axis e0 (the mean unit direction, or the one direction) and two axes across.
+    Vec3 e0{0, 0, 0};
+    for (const Ray& r : rays) {
+        const Vec3 w = normalize({r.d[0], r.d[1], r.d[2]});
+        for (int c = 0; c < 3; ++c) e0[c] += w[c];
+        if (one_direction) break;
+    }
+    e0 = normalize(e0);
+    if (!(std::isfinite(e0[0]) && std::isfinite(e0[1]) && std::isfinite(e0[2]))) {
+        return std::nullopt;
+    }
+    const Vec3 helper = std::fabs(e0[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    const Vec3 e1 = normalize(cross(e0, helper));
+    const Vec3 e2 = cross(e0, e1);
+    // Each ray's place across the bundle: its direction's projection onto the plane at unit
+    // distance along e0 (one origin, within a cone around e0), or its origin's (one direction).
+    std::vector<std::array<double, 2>> uv(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const Ray& r = rays[k];
+        if (one_origin) {
+            const Vec3 w = normalize({r.d[0], r.d[1], r.d[2]});
+            const double along = dot(w, e0);
+            if (!(along > 0.2)) return std::nullopt;  // wider than a camera: one by one
+            uv[k] = {dot(w, e1) / along, dot(w, e2) / along};
+        } else {
+            const Vec3 o{r.o[0], r.o[1], r.o[2]};
+            uv[k] = {dot(o, e1), dot(o, e2)};
+        }
+    }
+    const auto width = static_cast<unsigned>(std::ceil(std::sqrt(static_cast<double>(n))));
+    const auto height = static_cast<unsigned>((n + width - 1) / width);
+    std::vector<std::uint32_t> order(n);
+    for (std::size_t k = 0; k < n; ++k) order[k] = static_cast<std::uint32_t>(k);
+    std::sort(order.begin(), order.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return uv[a][1] < uv[b][1]; });
+    std::vector<std::uint32_t> cells(std::size_t{width} * height, PixelRays::kNoRay);
+    for (std::size_t row = 0; row * width < n; ++row) {
+        const auto first = order.begin() + static_cast<std::ptrdiff_t>(row * width);
+        const auto last =
+            order.begin() + static_cast<std::ptrdiff_t>(std::min(n, (row + 1) * width));
+        std::sort(first, last,
+                  [&](std::uint32_t a, std::uint32_t b) { return uv[a][0] < uv[b][0]; });
+        std::copy(first, last, cells.begin() + static_cast<std::ptrdiff_t>(row * width));
+    }
+    double u0 = kInf, u1 = -kInf, v0 = kInf, v1 = -kInf;
+    for (const auto& p : uv) {
+        u0 = std::min(u0, p[0]);
+        u1 = std::max(u1, p[0]);
+        v0 = std::min(v0, p[1]);
+        v1 = std::max(v1, p[1]);
+    }
+    const double pitch = std::max((u1 - u0) / width, (v1 - v0) / height);
+    return PixelRays(rays, width, height, std::move(cells), pitch, one_origin);
+}
+
+std::optional<std::vector<RayResult>> query_coherent(const expr::Tape& tape,
+                                                     std::span<const Ray> rays,
+                                                     const CoherentOptions& options,
+                                                     CoherentStats* stats) {
+    std::optional<PixelRays> grid = bundle_rays(rays);
+    if (!grid) return std::nullopt;
+    CoherentOptions o = options;
+    o.render.width = static_cast<unsigned>(std::ceil(std::sqrt(static_cast<double>(rays.size()))));
+    o.render.height = static_cast<unsigned>((rays.size() + o.render.width - 1) / o.render.width);
+    std::vector<RayResult> cells;
+    render_3d_coherent(tape, o, *grid, stats, &cells);
+    std::vector<RayResult> out(rays.size());
+    for (unsigned j = 0; j < o.render.height; ++j) {
+        for (unsigned i = 0; i < o.render.width; ++i) {
+            Ray ray;
+            if (!grid->ray(i, j, ray)) continue;
+            out[grid->index(i, j)] = cells[std::size_t{j} * o.render.width + i];
+        }
+    }
+    return out;
 }
 
 }  // namespace certray::tracers

@@ -27,6 +27,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "expr/tape.h"
@@ -49,6 +50,9 @@ enum class Projection : std::uint8_t {
     /// t ∈ [0, z1 − z0] (the upper end rounded up). The setting of libfive's and Fidget's 3D
     /// timings.
     Ortho,
+    /// Given rays laid out on a grid (bundle_rays): pixel (i, j) is the ray in that cell, as it
+    /// is (not clipped), or none.
+    List,
 };
 
 /// The solver options for images: tighten off, hit_width 1e-6.
@@ -105,15 +109,32 @@ class PixelRays {
     /// Throws std::invalid_argument for an empty size, a bad pinhole camera (CameraFrame), or
     /// (Ortho) bounds that are not finite with x0 < x1, y0 < y1, z0 < z1.
     explicit PixelRays(const CoherentOptions& options);
+    /// The rays of a bundle (Projection::List): `cells` (width × height, row-major) holds an
+    /// index into `rays` or kNoRay; `pitch` is the typical distance between neighbouring rays,
+    /// as an angle when `angular` (rays from one origin), else as a length. `rays` must outlive
+    /// this object.
+    PixelRays(std::span<const Ray> rays, unsigned width, unsigned height,
+              std::vector<std::uint32_t> cells, double pitch, bool angular);
+    static constexpr std::uint32_t kNoRay = 0xffffffffu;
     /// The ray of pixel (i, j) (j = 0 the top row), clipped to the bounds; false when it misses
     /// them (the pixel is then a Miss with no evaluation). Runs in a NearestScope.
     bool ray(unsigned i, unsigned j, Ray& ray) const;
     /// The widest angle (pinhole) or distance (ortho) between neighbouring pixel rays.
     double pixel_pitch() const { return pitch_; }
     Projection projection() const { return projection_; }
+    /// List: the index of the ray in cell (i, j), or kNoRay.
+    std::uint32_t index(unsigned i, unsigned j) const {
+        return cells_[std::size_t{j} * width_ + i];
+    }
+    /// The pitch is an angle (pinhole, rays from one origin): the rays spread with the distance.
+    bool angular() const { return angular_; }
 
   private:
     Projection projection_;
+    bool angular_ = false;
+    std::span<const Ray> list_;         ///< List only
+    std::vector<std::uint32_t> cells_;  ///< List only
+    unsigned width_ = 0;                ///< List only
     std::optional<CameraFrame> frame_;  ///< Pinhole only
     Box3 bounds_;
     double dx_ = 0, dy_ = 0, tmax_ = 0, pitch_ = 0;
@@ -131,5 +152,26 @@ class PixelRays {
 RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& options,
                                 CoherentStats* stats = nullptr,
                                 std::vector<RayResult>* results = nullptr);
+
+/// The same walk over the rays `rays` gives (options.render's width and height must be theirs;
+/// its camera and bounds are not read).
+RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& options,
+                                const PixelRays& rays, CoherentStats* stats = nullptr,
+                                std::vector<RayResult>* results = nullptr);
+
+/// Lays out a set of camera-like rays — all from one origin, or all along one direction, at least
+/// `min_rays` of them, none degenerate — on a grid where neighbouring cells hold neighbouring
+/// rays (rows by one coordinate across the bundle, each row sorted by the other), for the
+/// coherent walk. Empty when the rays are not such a set.
+std::optional<PixelRays> bundle_rays(std::span<const Ray> rays, std::size_t min_rays = 256);
+
+/// Answers `rays` by the coherent walk when they form a bundle (bundle_rays), with the
+/// certified meaning of options.surface; the results in input order (each ray's evaluations are
+/// its own solves'; the shared box evaluations are in `stats`). Empty when they do not form a
+/// bundle: answer them one by one.
+std::optional<std::vector<RayResult>> query_coherent(const expr::Tape& tape,
+                                                     std::span<const Ray> rays,
+                                                     const CoherentOptions& options,
+                                                     CoherentStats* stats = nullptr);
 
 }  // namespace certray::tracers

@@ -2,7 +2,11 @@
 //
 // Contract (certray/certray.h): results in input order, one per ray, by the named method with
 // the knobs given (each validated against the method registry: tracers/methods.h). Threads,
-// cancellation and progress as tracers::parallel_for (tracers/parallel.h).
+// cancellation and progress as tracers::parallel_for (tracers/parallel.h). Camera-like rays
+// for `certified` — at least 256, all from one origin or all along one direction — are answered
+// together by the coherent walk (tracers/coherent.h: query_coherent), with the same meaning;
+// each ray's evaluations then count its own solves (the shared box evaluations are not split
+// among the rays). QueryOptions::coherent = false answers them one by one.
 #pragma once
 
 #include <array>
@@ -39,6 +43,8 @@ struct QueryOptions {
     std::function<void(std::size_t, std::size_t)> progress;
     /// When set (by another thread), the query stops early and throws certray::Cancelled.
     const std::atomic<bool>* cancel = nullptr;
+    /// Camera-like rays for `certified` answered together by the coherent walk (see above).
+    bool coherent = true;
 };
 
 /// Thrown by query() when QueryOptions::cancel was set before it finished.

@@ -3,6 +3,8 @@
 // state.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -13,6 +15,7 @@
 #include "certray/certray.h"
 #include "expr/builder.h"
 #include "tests/support/fp_env.h"
+#include "tracers/coherent.h"
 
 namespace certray {
 namespace {
@@ -138,6 +141,70 @@ TEST(Api, ThreadsGiveTheSameAnswersAndReportProgress) {
     }
     EXPECT_GE(calls, 1u);
     EXPECT_EQ(last_done, rays.size());
+}
+
+/// Rays like a camera's: from `eye` towards the points of a grid on the square of side 2·half
+/// centred at the origin in the plane z = 0 (n × n of them).
+std::vector<Ray> camera_rays(std::array<double, 3> eye, int n, double half, double tmax) {
+    std::vector<Ray> rays;
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
+            const double x = -half + 2 * half * (i + 0.5) / n, y = -half + 2 * half * (j + 0.5) / n;
+            rays.push_back({eye, {x - eye[0], y - eye[1], -eye[2]}, 0, tmax});
+        }
+    }
+    return rays;
+}
+
+// Camera-like rays are answered together by the coherent walk: the same answers as one by one
+// (same status, hits enclosing the same first root within 4 ulps), on a surface with a known
+// first root: the unit sphere seen from (0, 0, 3) towards z = 0 and parallel rays along −z.
+TEST(Api, CameraLikeRaysAreAnsweredTogetherWithTheSameMeaning) {
+    for (const char* text : {"x^2 + y^2 + z^2 - 1", "max(max(abs(x), abs(y)), abs(z)) - 0.75"}) {
+        const Scene scene = Scene::parse(text);
+        std::vector<Ray> rays = camera_rays({0, 0, 3}, 24, 1.2, 1.5);  // t = 1: the plane z = 0
+        for (const Ray& r : camera_rays({0, 0, 3}, 20, 1.2, 1.5)) {
+            rays.push_back(r);
+        }
+        std::vector<Ray> parallel;
+        for (const Ray& r : camera_rays({0, 0, 3}, 20, 1.2, 1.5)) {
+            parallel.push_back({{r.o[0] + r.d[0], r.o[1] + r.d[1], 3}, {0, 0, -1}, 0, 4});
+        }
+        for (const std::vector<Ray>* set : {&rays, &parallel}) {
+            ASSERT_TRUE(tracers::bundle_rays(*set).has_value());
+            QueryOptions one_by_one;
+            one_by_one.coherent = false;
+            const std::vector<RayResult> a = query(scene, *set);
+            const std::vector<RayResult> b = query(scene, *set, one_by_one);
+            ASSERT_EQ(a.size(), set->size());
+            unsigned hits = 0;
+            for (std::size_t k = 0; k < a.size(); ++k) {
+                ASSERT_EQ(a[k].status, b[k].status) << text << " ray " << k;
+                if (a[k].status != Status::Hit) continue;
+                ++hits;
+                EXPECT_LE(std::max(a[k].t_lo, b[k].t_lo), std::min(a[k].t_hi, b[k].t_hi)) << k;
+                // Narrowed to 4 ulps as one by one (the `tighten` knob's default for queries).
+                double lim = a[k].t_lo;
+                for (int u = 0; u < 4; ++u) lim = std::nextafter(lim, kInf);
+                EXPECT_LE(a[k].t_hi, lim) << k;
+                if (std::string(text).front() == 'x') {  // the sphere: |o + t·d|² = 1
+                    const Ray& r = (*set)[k];
+                    const double qa = r.d[0] * r.d[0] + r.d[1] * r.d[1] + r.d[2] * r.d[2];
+                    const double qb = 2 * (r.o[0] * r.d[0] + r.o[1] * r.d[1] + r.o[2] * r.d[2]);
+                    const double qc = r.o[0] * r.o[0] + r.o[1] * r.o[1] + r.o[2] * r.o[2] - 1;
+                    const double t = (-qb - std::sqrt(qb * qb - 4 * qa * qc)) / (2 * qa);
+                    EXPECT_LE(a[k].t_lo, t + 1e-12) << k;
+                    EXPECT_GE(a[k].t_hi, t - 1e-12) << k;
+                }
+            }
+            EXPECT_GT(hits, 50u) << text;
+        }
+    }
+    // Rays that share neither origin nor direction, or too few: one by one.
+    std::vector<Ray> scattered = camera_rays({0, 0, 3}, 20, 1.2, 1.5);
+    for (std::size_t k = 0; k < scattered.size(); ++k) scattered[k].o[0] += 1e-3 * k;
+    EXPECT_FALSE(tracers::bundle_rays(scattered).has_value());
+    EXPECT_FALSE(tracers::bundle_rays(camera_rays({0, 0, 3}, 10, 1.2, 1.5)).has_value());
 }
 
 TEST(Api, CancelledQueriesThrow) {
