@@ -443,8 +443,10 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
         << tracers::name(*rs.surface) << ", aov " << aov_name << ": hit " << r.stats.hit
         << ", miss " << r.stats.miss << ", unknown " << r.stats.unknown << " pixels; evaluations "
         << r.stats.evals.total() << " (value " << r.stats.evals.value << ", interval "
-        << r.stats.evals.interval << ", gradient " << r.stats.evals.gradient << "; max per pixel "
-        << r.stats.max_pixel_evals << "); " << r.stats.seconds << " s on " << threads
+        << r.stats.evals.interval << ", gradient " << r.stats.evals.gradient << "; per pixel "
+        << static_cast<double>(r.stats.evals.total()) /
+               std::max<double>(1.0, static_cast<double>(rs.width) * rs.height)
+        << ", max per pixel " << r.stats.max_pixel_evals << "); " << r.stats.seconds << " s on " << threads
         << " threads\n";
     return 0;
 }

@@ -691,16 +691,15 @@ std::optional<std::vector<RayResult>> query_coherent(const expr::Tape& tape,
     std::optional<PixelRays> grid = bundle_rays(rays);
     if (!grid) return std::nullopt;
     CoherentOptions o = options;
-    o.render.width = static_cast<unsigned>(std::ceil(std::sqrt(static_cast<double>(rays.size()))));
-    o.render.height = static_cast<unsigned>((rays.size() + o.render.width - 1) / o.render.width);
+    o.render.width = grid->grid_width();
+    o.render.height = grid->grid_height();
     std::vector<RayResult> cells;
     render_3d_coherent(tape, o, *grid, stats, &cells);
     std::vector<RayResult> out(rays.size());
     for (unsigned j = 0; j < o.render.height; ++j) {
         for (unsigned i = 0; i < o.render.width; ++i) {
-            Ray ray;
-            if (!grid->ray(i, j, ray)) continue;
-            out[grid->index(i, j)] = cells[std::size_t{j} * o.render.width + i];
+            const std::uint32_t k = grid->index(i, j);
+            if (k != PixelRays::kNoRay) out[k] = cells[std::size_t{j} * o.render.width + i];
         }
     }
     return out;

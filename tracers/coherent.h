@@ -122,6 +122,11 @@ class PixelRays {
     /// The widest angle (pinhole) or distance (ortho) between neighbouring pixel rays.
     double pixel_pitch() const { return pitch_; }
     Projection projection() const { return projection_; }
+    /// List: the grid's size.
+    unsigned grid_width() const { return width_; }
+    unsigned grid_height() const {
+        return width_ == 0 ? 0 : static_cast<unsigned>(cells_.size() / width_);
+    }
     /// List: the index of the ray in cell (i, j), or kNoRay.
     std::uint32_t index(unsigned i, unsigned j) const {
         return cells_[std::size_t{j} * width_ + i];
