@@ -446,8 +446,8 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
         << r.stats.evals.interval << ", gradient " << r.stats.evals.gradient << "; per pixel "
         << static_cast<double>(r.stats.evals.total()) /
                std::max<double>(1.0, static_cast<double>(rs.width) * rs.height)
-        << ", max per pixel " << r.stats.max_pixel_evals << "); " << r.stats.seconds << " s on " << threads
-        << " threads\n";
+        << ", max per pixel " << r.stats.max_pixel_evals << "); " << r.stats.seconds << " s on "
+        << threads << " threads\n";
     return 0;
 }
 
