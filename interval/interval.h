@@ -171,6 +171,56 @@ struct WidenedTransc : Rounding {
 #endif
         return r;
     }
+    /// f(a) and f(b) in round-to-nearest under one switch of the mode (restored after): half the
+    /// mode switches of two nearest() calls, for the two bounds of a monotone function.
+    template <class F>
+    void nearest2(F f, double& a, double& b) {
+        a = opaque(a);
+        b = opaque(b);
+#ifdef CERTRAY_X86_64_ROUNDING
+        const X86RoundingControl::rounding_mode saved = X86RoundingControl::current();
+        X86RoundingControl::set_rounding_mode(X86RoundingControl::canonical(0));
+        a = opaque(f(a));
+        b = opaque(f(b));
+        X86RoundingControl::set_rounding_mode(saved);
+#else
+        typename Rounding::rounding_mode saved;
+        this->get_rounding_mode(saved);
+        this->to_nearest();
+        a = this->force_rounding(f(a));
+        b = this->force_rounding(f(b));
+        this->set_rounding_mode(saved);
+#endif
+    }
+    /// [exp_down(lo), exp_up(hi)] in place (lo ≤ hi, not NaN), with one mode switch.
+    void exp_bounds(double& lo, double& hi) {
+        const double a = lo, b = hi;
+        double ea = a, eb = b;
+        nearest2(exp_rn, ea, eb);
+        if (a == 0) {
+            lo = 1.0;
+        } else if (std::isinf(a)) {
+            lo = a > 0 ? a : 0.0;
+        } else {
+            lo = step_down(ea, kTranscUlps);
+            if (lo < 0) lo = 0.0;
+        }
+        if (b == 0) {
+            hi = 1.0;
+        } else if (std::isinf(b)) {
+            hi = b > 0 ? b : 0.0;
+        } else {
+            hi = step_up(eb, kTranscUlps);
+        }
+    }
+    /// [log_down(lo), log_up(hi)] in place (0 < lo ≤ hi, not NaN), with one mode switch.
+    void log_bounds(double& lo, double& hi) {
+        const double a = lo, b = hi;
+        double la = a, lb = b;
+        nearest2(log_rn, la, lb);
+        lo = a == 1 ? 0.0 : std::isinf(a) ? a : step_down(la, kTranscUlps);
+        hi = b == 1 ? 0.0 : std::isinf(b) ? b : step_up(lb, kTranscUlps);
+    }
     static double exp_rn(double x) { return std::exp(x); }
     static double log_rn(double x) { return std::log(x); }
     static double sin_rn(double x) { return std::sin(x); }
@@ -727,14 +777,23 @@ template <class M>
 template <class M>
 BasicInterval<M> exp(const BasicInterval<M>& x) {
     [[maybe_unused]] typename M::Guard guard;
-    return {boost::numeric::exp(x.iv), x.defined};
+    if (x.is_empty()) return BasicInterval<M>::empty();
+    typename M::Policies::rounding rnd;
+    double lo = x.lower(), hi = x.upper();
+    rnd.exp_bounds(lo, hi);  // both bounds under one mode switch
+    return {typename BasicInterval<M>::Boost(lo, hi), x.defined};
 }
 /// log on [a, b] ∩ (0, ∞): [log_down(a) or −∞ if a ≤ 0, log_up(b)]; empty if b ≤ 0;
 /// defined only if a > 0.
 template <class M>
 BasicInterval<M> log(const BasicInterval<M>& x) {
     [[maybe_unused]] typename M::Guard guard;
-    return {boost::numeric::log(x.iv), x.defined && x.lower() > 0};
+    if (x.is_empty() || !(x.upper() > 0)) return {boost::numeric::log(x.iv), false};
+    if (!(x.lower() > 0)) return {boost::numeric::log(x.iv), false};  // [−inf, log_up(b)]
+    typename M::Policies::rounding rnd;
+    double lo = x.lower(), hi = x.upper();
+    rnd.log_bounds(lo, hi);  // both bounds under one mode switch
+    return {typename BasicInterval<M>::Boost(lo, hi), x.defined};
 }
 /// cos: the box is reduced modulo 2π with interval π bounds; a box of width ≥ 2π, an unbounded
 /// box or a reduction too coarse to tell gives [−1, 1]; otherwise monotone pieces.
