@@ -63,10 +63,10 @@ std::optional<std::vector<RayResult>> query_bundle(const Scene& scene, std::span
 std::vector<RayResult> query(const Scene& scene, std::span<const Ray> rays,
                              const QueryOptions& options) {
     for (std::size_t i = 0; i < rays.size(); ++i) check_ray(rays[i], i);
-    const tracers::RayFunction fn = prepare(scene, options);
     if (std::optional<std::vector<RayResult>> bundle = query_bundle(scene, rays, options)) {
         return std::move(*bundle);
     }
+    const tracers::RayFunction fn = prepare(scene, options);
     std::vector<RayResult> results(rays.size());
     tracers::ParallelOptions po;
     po.threads = options.threads;

@@ -194,32 +194,17 @@ struct WidenedTransc : Rounding {
     }
     /// [exp_down(lo), exp_up(hi)] in place (lo ≤ hi, not NaN), with one mode switch.
     void exp_bounds(double& lo, double& hi) {
-        const double a = lo, b = hi;
-        double ea = a, eb = b;
+        double ea = lo, eb = hi;
         nearest2(exp_rn, ea, eb);
-        if (a == 0) {
-            lo = 1.0;
-        } else if (std::isinf(a)) {
-            lo = a > 0 ? a : 0.0;
-        } else {
-            lo = step_down(ea, kTranscUlps);
-            if (lo < 0) lo = 0.0;
-        }
-        if (b == 0) {
-            hi = 1.0;
-        } else if (std::isinf(b)) {
-            hi = b > 0 ? b : 0.0;
-        } else {
-            hi = step_up(eb, kTranscUlps);
-        }
+        lo = exp_below(lo, ea);
+        hi = exp_above(hi, eb);
     }
     /// [log_down(lo), log_up(hi)] in place (0 < lo ≤ hi, not NaN), with one mode switch.
     void log_bounds(double& lo, double& hi) {
-        const double a = lo, b = hi;
-        double la = a, lb = b;
+        double la = lo, lb = hi;
         nearest2(log_rn, la, lb);
-        lo = a == 1 ? 0.0 : std::isinf(a) ? a : step_down(la, kTranscUlps);
-        hi = b == 1 ? 0.0 : std::isinf(b) ? b : step_up(lb, kTranscUlps);
+        lo = log_below(lo, la);
+        hi = log_above(hi, lb);
     }
     static double exp_rn(double x) { return std::exp(x); }
     static double log_rn(double x) { return std::log(x); }
@@ -229,29 +214,31 @@ struct WidenedTransc : Rounding {
     // sqrt below without the two mode switches of rounded_arith_opp (x ≥ 0 here).
     double sqrt_down(double x) { return sqrt_rd(x); }
 
-    // exp: exact at 0 and ±inf; below by kTranscUlps ulps, clamped at 0.
-    double exp_down(double x) {
+    // exp: exact at 0 and ±inf; below by kTranscUlps ulps, clamped at 0. exp_below(x, r) and
+    // exp_above(x, r) turn r, exp(x) rounded to nearest, into the bounds.
+    static double exp_below(double x, double r) {
         if (x == 0) return 1.0;
         if (std::isinf(x)) return x > 0 ? x : 0.0;
-        double r = step_down(nearest(exp_rn, x), kTranscUlps);
+        r = step_down(r, kTranscUlps);
         return r < 0 ? 0.0 : r;
     }
-    double exp_up(double x) {
+    static double exp_above(double x, double r) {
         if (x == 0) return 1.0;
         if (std::isinf(x)) return x > 0 ? x : 0.0;
-        return step_up(nearest(exp_rn, x), kTranscUlps);
+        return step_up(r, kTranscUlps);
     }
-    // log (called by Boost only for x > 0): exact at 1 and +inf.
-    double log_down(double x) {
-        if (x == 1) return 0.0;
-        if (std::isinf(x)) return x;
-        return step_down(nearest(log_rn, x), kTranscUlps);
+    double exp_down(double x) { return exp_below(x, nearest(exp_rn, x)); }
+    double exp_up(double x) { return exp_above(x, nearest(exp_rn, x)); }
+    // log (called by Boost only for x > 0): exact at 1 and +inf; log_below and log_above as for
+    // exp.
+    static double log_below(double x, double r) {
+        return x == 1 ? 0.0 : std::isinf(x) ? x : step_down(r, kTranscUlps);
     }
-    double log_up(double x) {
-        if (x == 1) return 0.0;
-        if (std::isinf(x)) return x;
-        return step_up(nearest(log_rn, x), kTranscUlps);
+    static double log_above(double x, double r) {
+        return x == 1 ? 0.0 : std::isinf(x) ? x : step_up(r, kTranscUlps);
     }
+    double log_down(double x) { return log_below(x, nearest(log_rn, x)); }
+    double log_up(double x) { return log_above(x, nearest(log_rn, x)); }
     // sin, cos: exact at 0, clamped to [-1, 1].
     double sin_down(double x) {
         if (x == 0) return x;

@@ -149,8 +149,10 @@ class Walker {
         return solid_ ? solvers::solid_first_entry(tape, ray, solid_options_)
                       : solvers::certified_first_root(tape, ray, options_.certified);
     }
-    /// Writes the answer `res` of pixel (i, j) on its ray.
-    void answer(unsigned i, unsigned j, const Ray& ray, const RayResult& res);
+    /// Counts the evaluations `e` that proved pixel (i, j)'s ray free of zeros on a segment.
+    void spend(unsigned i, unsigned j, const EvalCounts& e);
+    /// Writes the answer `res` of pixel (i, j) on its ray and closes the pixel.
+    void answer(unsigned i, unsigned j, Px& p, const RayResult& res);
 
     const expr::Tape& tape_;
     const CoherentOptions& options_;
@@ -383,11 +385,8 @@ void Walker::leaf(const Rect& r, double a, double b, const Ssa& list, const expr
             s.tmax = std::min(b, p.ray.tmax);
             RayResult res = solve(tape, s);
             ++stats.leaf_solves;
-            const std::size_t k = std::size_t{j} * ans_.width + i;
             if (res.status == Status::Miss) {  // free of zeros up to b: the walk goes on
-                evals += res.evals;
-                ans_.evals[k] += res.evals.total();
-                if (results_ != nullptr) (*results_)[k].evals += res.evals;
+                spend(i, j, res.evals);
                 continue;
             }
             if (res.status == Status::Unknown && choices_ && p.splits < kMaxSplits &&
@@ -397,9 +396,7 @@ void Walker::leaf(const Rect& r, double a, double b, const Ssa& list, const expr
                 // (max(x, −min(x, y)) at the edge of a plane where f touches 0, say).
                 ++p.splits;
                 ++stats.splits;
-                evals += res.evals;
-                ans_.evals[k] += res.evals.total();
-                if (results_ != nullptr) (*results_)[k].evals += res.evals;
+                spend(i, j, res.evals);
                 const double m = 0.5 * s.tmin + 0.5 * s.tmax;
                 const Rect one{i, j, 1, 1};  // this ray alone
                 node(one, s.tmin, m, list, &tape, depth + 1);
@@ -416,10 +413,7 @@ void Walker::leaf(const Rect& r, double a, double b, const Ssa& list, const expr
                 res = solve(tape_, rest);
                 res.evals += spent;
             }
-            evals += res.evals;
-            answer(i, j, p.ray, res);
-            p.open = false;
-            ++answered_;
+            answer(i, j, p, res);
         }
     }
 }
@@ -435,14 +429,23 @@ void Walker::inside(const Rect& r, double a, double b) {
             RayResult res;
             res.status = Status::Hit;
             res.t_lo = res.t_hi = res.t = t;
-            answer(i, j, p.ray, res);
-            p.open = false;
-            ++answered_;
+            answer(i, j, p, res);
         }
     }
 }
 
-void Walker::answer(unsigned i, unsigned j, const Ray& ray, const RayResult& res) {
+void Walker::spend(unsigned i, unsigned j, const EvalCounts& e) {
+    const std::size_t k = std::size_t{j} * ans_.width + i;
+    evals += e;
+    ans_.evals[k] += e.total();
+    if (results_ != nullptr) (*results_)[k].evals += e;
+}
+
+void Walker::answer(unsigned i, unsigned j, Px& p, const RayResult& res) {
+    p.open = false;
+    ++answered_;
+    evals += res.evals;
+    const Ray& ray = p.ray;
     const std::size_t k = std::size_t{j} * ans_.width + i;
     ans_.status[k] = res.status;
     ans_.evals[k] += res.evals.total();

@@ -80,11 +80,13 @@ void tally(Agreement& a, unsigned i, unsigned j, const RayResult& coherent, cons
 
 /// The coherent render of `tape` compared with the per-ray certified solver (its default options;
 /// solid_first_entry under the solid surface) on every pixel's ray
-/// (every `stride`-th pixel for the MPFR reference, when `reference` is set).
+/// (every `stride`-th pixel for the MPFR reference, when `reference` is set); the coherent answers
+/// also into `coherent` when given.
 Agreement against_per_ray(const expr::Tape& tape, const CoherentOptions& o, bool reference = false,
-                          unsigned stride = 1) {
+                          unsigned stride = 1, std::vector<RayResult>* coherent = nullptr) {
     CoherentStats stats;
-    std::vector<RayResult> results;
+    std::vector<RayResult> own;
+    std::vector<RayResult>& results = coherent != nullptr ? *coherent : own;
     // Rendered as a host in CERTRAY_HOST_FPENV's state would call it (the default state unless the
     // fpenv runs set one): the answers must not depend on it.
     const RenderResult r =
@@ -183,10 +185,8 @@ TEST(Coherent, SolidAgreesWithThePerRaySolidSolver) {
             if (path.parent_path().filename() == "fidget")
                 o.render.bounds = {{{-1, 1}, {-1, 1}, {-1, 1}}};
             o.render.camera = frame_box(o.render.bounds, 35, 1.0);
-            CoherentStats stats;
             std::vector<RayResult> results;
-            render_3d_coherent(tape, o, &stats, &results);
-            const Agreement a = against_per_ray(tape, o);
+            const Agreement a = against_per_ray(tape, o, false, 1, &results);
             const std::string where =
                 path.filename().string() + (p == Projection::Pinhole ? " pinhole" : " ortho");
             EXPECT_EQ(a.wrong, 0u) << where << ": " << a.first_wrong;
