@@ -85,6 +85,7 @@ tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {
         if (mo.tighten != 0) {  // asked for: 4-ulp hits, as the per-ray method gives
             co.certified.tighten = true;
             co.certified.hit_width = 0;
+            co.depth_pixels = 0;
         }
         return tracers::render_3d_coherent(scene.tape(), co);
     }

@@ -42,7 +42,8 @@ class Solver {
     bool out_of_budget() const { return result_.evals.total() >= options_.budget; }
     /// A hit enclosure needs no more narrowing: a few ulps, or options.hit_width relative to |t|.
     bool narrow_enough(const Interval& t) const {
-        return solvers::narrow_enough(t.lower(), t.upper(), options_.hit_width);
+        return solvers::narrow_enough(t.lower(), t.upper(), options_.hit_width,
+                                      options_.hit_width_absolute);
     }
 
     /// G(T): g over the parameter interval T.
@@ -365,7 +366,9 @@ RayResult certified_first_root(const expr::Tape& tape, const Ray& ray,
     const RayResult r = Solver<Interval>(tape, ray, options, scratch).solve();
     // Undecided, or wide on a polynomial scene: the exact oracle decides, within what is left of
     // the budget. A hit left wide on purpose (hit_width) stays as it is.
-    return exact_fallback(tape, ray, r, options.budget, options.tighten && options.hit_width <= 0);
+    return exact_fallback(
+        tape, ray, r, options.budget,
+        options.tighten && options.hit_width <= 0 && options.hit_width_absolute <= 0);
 }
 
 RayResult certified_first_root_reference(const expr::Tape& tape, const Ray& ray,

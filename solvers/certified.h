@@ -31,6 +31,9 @@ struct CertifiedOptions {
     /// keeps its meaning; only the enclosure may be wider. A Hit left wider than 4 ulps this way is
     /// not narrowed by the exact oracle either.
     double hit_width = 0;
+    /// As hit_width, an absolute width: a Hit may also stop once t_hi − t_lo ≤ hit_width_absolute
+    /// (when > 0; a heightmap's depth resolution).
+    double hit_width_absolute = 0;
 };
 
 /// The first root of g(t) = f(o + t·d) on [ray.tmin, ray.tmax], certified (see the contract).

@@ -55,6 +55,12 @@ class Solver {
 
   private:
     bool out_of_budget() const { return result_.evals.total() >= options_.budget; }
+    /// [lo, hi] is as narrow as the options ask a hit enclosure to be (false when they ask for
+    /// no width: then a hit is narrowed as far as the search goes).
+    bool wide_enough(double lo, double hi) const {
+        return (options_.hit_width > 0 || options_.hit_width_absolute > 0) &&
+               narrow_enough(lo, hi, options_.hit_width, options_.hit_width_absolute);
+    }
 
     /// G(T), refined by the affine form when the options ask for it and G(T) is undecided.
     Interval g(const Interval& t) {
@@ -169,8 +175,7 @@ RayResult Solver<E>::solve() {
             if (stack.back().upper() > neg_) stack.back() = Interval(stack.back().lower(), neg_);
             // Everything left of the pending interval is proven outside: [that, neg] is a hit
             // enclosure, narrow enough for the options.
-            if (std::isnan(cand_lo_) && options_.hit_width > 0 &&
-                narrow_enough(stack.back().lower(), neg_, options_.hit_width)) {
+            if (std::isnan(cand_lo_) && wide_enough(stack.back().lower(), neg_)) {
                 return finish(Status::Hit, stack.back().lower(), neg_);
             }
         }
@@ -200,7 +205,7 @@ RayResult Solver<E>::solve() {
             // for a proven-inside point nearer to a.
             const double lo = std::isnan(cand_lo_) ? a : cand_lo_;
             double left = a;
-            while (splittable(left, neg_) && !out_of_budget()) {
+            while (splittable(left, neg_) && !wide_enough(lo, neg_) && !out_of_budget()) {
                 const double m = midpoint(Interval(left, neg_));
                 if (proven_neg(g_at(m))) {
                     neg_ = m;

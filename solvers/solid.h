@@ -33,6 +33,9 @@ struct SolidOptions {
     /// stops once t_hi − t_lo ≤ hit_width · max(|t_lo|, |t_hi|) (an image needs no few-ulp depths);
     /// the answer keeps its meaning.
     double hit_width = 0;
+    /// As hit_width, an absolute width: a hit may also stop once t_hi − t_lo ≤ hit_width_absolute
+    /// (when > 0).
+    double hit_width_absolute = 0;
 };
 
 /// The first entry of the ray o + t·d, t ∈ [ray.tmin, ray.tmax], into {f < 0}, certified (see the

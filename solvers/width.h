@@ -26,12 +26,14 @@ inline bool narrow(double a, double b) {
     return !splittable(a, b) || (std::isfinite(b - a) && b - a <= lim - scale);
 }
 
-/// Narrow, or at most `relative` times the larger magnitude wide (relative > 0): how wide a hit
-/// enclosure may stay (an image needs no few-ulp depths).
-inline bool narrow_enough(double a, double b, double relative) {
+/// Narrow, or at most `relative` times the larger magnitude wide (relative > 0), or at most
+/// `absolute` wide (absolute > 0): how wide a hit enclosure may stay (an image needs no few-ulp
+/// depths).
+inline bool narrow_enough(double a, double b, double relative, double absolute = 0) {
     if (narrow(a, b)) return true;
     const double scale = std::max(std::fabs(a), std::fabs(b));
-    return relative > 0 && std::isfinite(scale) && b - a <= relative * scale;
+    if (!std::isfinite(scale)) return false;
+    return (relative > 0 && b - a <= relative * scale) || (absolute > 0 && b - a <= absolute);
 }
 
 }  // namespace certray::solvers

@@ -57,7 +57,6 @@ Ray CameraFrame::ray(double px, double py) const {
 }
 
 bool clip_ray(Ray& ray, const Box3& box) {
-    constexpr double kInf = std::numeric_limits<double>::infinity();
     double t0 = ray.tmin, t1 = ray.tmax;
     for (int a = 0; a < 3; ++a) {
         const double o = ray.o[a], d = ray.d[a];
@@ -69,10 +68,8 @@ bool clip_ray(Ray& ray, const Box3& box) {
         if (ta > tb) std::swap(ta, tb);
         // Each slab parameter is one rounding of a subtraction and a division away from the
         // exact one: step a few ulps outward so the clipped segment keeps the whole box.
-        for (int k = 0; k < 4; ++k) {
-            ta = std::nextafter(ta, -kInf);
-            tb = std::nextafter(tb, kInf);
-        }
+        ta = detail::step_down(ta, 4);
+        tb = detail::step_up(tb, 4);
         t0 = std::max(t0, ta);
         t1 = std::min(t1, tb);
     }

@@ -100,11 +100,24 @@ class Walker {
           ans_(answers),
           results_(results),
           solid_(options.surface == Surface::Solid),
+          mean_value_rays_(options.mean_value_rays.value_or(solid_ ? 0 : 16)),
+          certified_(options.certified),
           choices_(has_choices(tape.ssa())),
           t_splits_(rays.projection() != Projection::Ortho || tape.uses_var(2)),
           levels_(kMaxDepth) {
-        solid_options_.budget = options.certified.budget;
-        solid_options_.hit_width = options.certified.hit_width;
+        if (rays.projection() != Projection::List && options.render.aov != Aov::Depth &&
+            options.depth_pixels > 0) {
+            // A pixel's footprint: its angle times t (pinhole), or its side (ortho).
+            const double depth = options.depth_pixels * rays.pixel_pitch();
+            if (rays.angular()) {
+                certified_.hit_width = std::max(certified_.hit_width, depth);
+            } else {
+                certified_.hit_width_absolute = std::max(certified_.hit_width_absolute, depth);
+            }
+        }
+        solid_options_.budget = certified_.budget;
+        solid_options_.hit_width = certified_.hit_width;
+        solid_options_.hit_width_absolute = certified_.hit_width_absolute;
         prune_ws_.absolute_values = true;
     }
 
@@ -147,7 +160,7 @@ class Walker {
     /// The certified answer on one ray segment, for the surface asked for.
     RayResult solve(const expr::Tape& tape, const Ray& ray) const {
         return solid_ ? solvers::solid_first_entry(tape, ray, solid_options_)
-                      : solvers::certified_first_root(tape, ray, options_.certified);
+                      : solvers::certified_first_root(tape, ray, certified_);
     }
     /// Counts the evaluations `e` that proved pixel (i, j)'s ray free of zeros on a segment.
     void spend(unsigned i, unsigned j, const EvalCounts& e);
@@ -158,8 +171,10 @@ class Walker {
     const CoherentOptions& options_;
     const PixelRays& rays_;
     PixelAnswers& ans_;
-    std::vector<RayResult>* results_;  ///< every answer, when the caller asks
-    const bool solid_;                 ///< the solid surface (else the zero set)
+    std::vector<RayResult>* results_;      ///< every answer, when the caller asks
+    const bool solid_;                     ///< the solid surface (else the zero set)
+    const unsigned mean_value_rays_;       ///< CoherentOptions::mean_value_rays, resolved
+    solvers::CertifiedOptions certified_;  ///< options.certified with the image's depth width
     solvers::SolidOptions solid_options_;
     const bool choices_;  ///< the tape has min/max: pruning can shorten it
     /// Splitting in t can tighten a box: false for heightmap rays over a tape without z, whose
@@ -317,7 +332,7 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     // Zero: 0 ∉ F (or f undefined on the whole box), no ray meets f = 0 here. Solid: F ≥ 0, no
     // ray enters {f < 0} here; or F < 0, every ray enters at its first point in the box.
     Proof proven = proof(f);
-    if (proven == Proof::None && count <= options_.mean_value_rays) {
+    if (proven == Proof::None && count <= mean_value_rays_) {
         const UpInterval m = mean_value(list, a, b, olo, ohi, dlo, dhi);
         if (!m.is_empty()) proven = proof(m);  // empty: the form does not apply
     }

@@ -85,8 +85,15 @@ struct CoherentOptions {
     /// Where the interval enclosure of f over a box of at most this many rays holds 0, try the
     /// mean value form (f at the box's centre plus the gradient enclosure times the box's radius;
     /// one gradient and one point evaluation), which is second-order tight on small boxes (and
-    /// seldom pays on larger ones). 0: never.
-    unsigned mean_value_rays = 16;
+    /// seldom pays on larger ones). 0: never. Unset: 16 on the zero surface, 0 on the solid
+    /// (where it cost more than it saved on every model measured: docs/benchmarks.md, session 7).
+    std::optional<unsigned> mean_value_rays;
+    /// Images (Pinhole, Ortho) of any AOV but the depth: a pixel's hit enclosure may stop
+    /// narrowing once it is at most this many pixel footprints deep (pinhole: relative to t, the
+    /// pixel's angle times this; ortho: the pixel's side times this), besides
+    /// certified.hit_width; the answer keeps its meaning. 0: only certified.hit_width. Not used
+    /// for ray lists (query bundles) nor for the depth AOV (depths as data keep their digits).
+    double depth_pixels = 0.5;
 };
 
 /// What the coherent walk did, summed over the image.

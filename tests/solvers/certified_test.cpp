@@ -53,6 +53,27 @@ TEST(Certified, UnitSphereFromOutsideAndInside) {
     expect_hit_at(trace(s, {0, 0, -3}, {0, 0, 1}, 2.5), 4.0);  // starts past the first
 }
 
+TEST(Certified, HitWidthsStopTheNarrowingEarlyAndKeepTheRoot) {
+    // The unit sphere met from (-3, 0.6, 0) along +x at t = 3 - sqrt(1 - 0.36) = 2.2, exactly.
+    for (const char* f : {"x^2 + y^2 + z^2 - 1", "sqrt(x^2 + y^2 + z^2) - 1"}) {
+        SCOPED_TRACE(f);
+        const Tape s = tape_of(f);
+        const Ray ray{{-3, 0.6, 0}, {1, 0, 0}, 0, 10};
+        for (const auto& [relative, absolute] :
+             {std::pair{1e-3, 0.0}, std::pair{0.0, 1e-3}, std::pair{1e-7, 0.05}}) {
+            CertifiedOptions o;
+            o.tighten = false;
+            o.hit_width = relative;
+            o.hit_width_absolute = absolute;
+            const RayResult r = certified_first_root(s, ray, o);
+            ASSERT_EQ(r.status, Status::Hit);
+            EXPECT_LE(r.t_lo, 2.2);
+            EXPECT_GE(r.t_hi, 2.2);
+            EXPECT_LE(r.t_hi - r.t_lo, std::max(relative * r.t_hi, absolute));
+        }
+    }
+}
+
 TEST(Certified, AlgebraicSphereNeverMissesATangent) {
     // x² + y² + z² − 1 along y = 1: a double root at t = 3; proven or unknown, never a miss.
     const Tape s = tape_of("x^2 + y^2 + z^2 - 1");

@@ -77,6 +77,33 @@ TEST(Solid, SphereEntryIsTight) {
     }
 }
 
+TEST(Solid, HitWidthsStopTheNarrowingEarlyAndKeepTheEntry) {
+    // The ball of radius 1 entered from (0, 0, -3) along +z at t = 2, and the ball of radius 2
+    // centred at z = 10 along the same ray at t = 11 (after 2, so a second, far case): the entry
+    // stays inside the enclosure, whose width the options bound.
+    const std::pair<const char*, double> cases[] = {{"x^2 + y^2 + z^2 - 1", 2.0},
+                                                    {"x^2 + y^2 + (z - 10)^2 - 4", 11.0}};
+    for (const auto& [f, entry] : cases) {
+        SCOPED_TRACE(f);
+        const Tape s = tape_of(f);
+        const Ray ray{{0, 0, -3}, {0, 0, 1}, 0, 30};
+        const RayResult tight = solid_first_entry(s, ray);
+        expect_entry_at(tight, entry);
+        for (const auto& [relative, absolute] :
+             {std::pair{1e-3, 0.0}, std::pair{0.0, 1e-3}, std::pair{1e-6, 0.05}}) {
+            SolidOptions o;
+            o.hit_width = relative;
+            o.hit_width_absolute = absolute;
+            const RayResult r = solid_first_entry(s, ray, o);
+            ASSERT_EQ(r.status, Status::Hit);
+            EXPECT_LE(r.t_lo, entry);
+            EXPECT_GE(r.t_hi, entry);
+            EXPECT_LE(r.t_hi - r.t_lo, std::max(relative * r.t_hi, absolute));
+            EXPECT_LT(r.evals.total(), tight.evals.total());  // stopped before the ulps
+        }
+    }
+}
+
 TEST(Solid, StartsInside) {
     const Tape s = tape_of("x^2 + y^2 + z^2 - 1");
     const RayResult r = solid(s, {0, 0, 0}, {1, 0, 0});

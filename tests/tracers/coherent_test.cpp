@@ -250,6 +250,62 @@ TEST(Coherent, SolidHitsHoldTheEntryOfMathematics) {
     }
 }
 
+TEST(Coherent, HitsAreHalfAPixelDeepAndHoldTheRootOfMathematics) {
+    // The unit sphere: a ray o + t·d meets it first at t = (−b − √(b² − 4ac)) / 2a with a = d·d,
+    // b = 2 o·d, c = o·o − 1. An image's hit enclosure holds that root and is at most half a pixel
+    // footprint deep (pinhole: 0.5 · pitch · t; ortho: 0.5 · pitch); a depth AOV keeps 1e-6.
+    for (const char* f : {"x^2 + y^2 + z^2 - 1", "sqrt(x^2 + y^2 + z^2) - 1"}) {
+        const expr::Tape tape(expr::parse_expr(f));
+        for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
+            for (Surface surface : {Surface::Zero, Surface::Solid}) {
+                for (Aov aov : {Aov::Shade, Aov::Depth}) {
+                    CoherentOptions o = small_view(p);
+                    o.surface = surface;
+                    o.render.aov = aov;
+                    std::vector<RayResult> results;
+                    render_3d_coherent(tape, o, nullptr, &results);
+                    const PixelRays rays(o);
+                    const double pitch = rays.pixel_pitch();
+                    const std::string where = std::string(f) +
+                                              (p == Projection::Pinhole ? " pinhole" : " ortho") +
+                                              (surface == Surface::Solid ? " solid" : " zero") +
+                                              (aov == Aov::Depth ? " depth" : " shade");
+                    unsigned hits = 0;
+                    double widest = 0;  // the widest enclosure relative to the allowed depth
+                    for (std::size_t k = 0; k < results.size(); ++k) {
+                        const RayResult& r = results[k];
+                        if (r.status != Status::Hit) continue;
+                        Ray ray;
+                        ASSERT_TRUE(rays.ray(static_cast<unsigned>(k % 48),
+                                             static_cast<unsigned>(k / 48), ray));
+                        using L = long double;
+                        const L a = L(ray.d[0]) * ray.d[0] + L(ray.d[1]) * ray.d[1] +
+                                    L(ray.d[2]) * ray.d[2];
+                        const L b = 2 * (L(ray.o[0]) * ray.d[0] + L(ray.o[1]) * ray.d[1] +
+                                         L(ray.o[2]) * ray.d[2]);
+                        const L c = L(ray.o[0]) * ray.o[0] + L(ray.o[1]) * ray.o[1] +
+                                    L(ray.o[2]) * ray.o[2] - 1;
+                        const L disc = b * b - 4 * a * c;
+                        if (disc < 1e-9) continue;  // grazing: the tangent is its own question
+                        const double t = static_cast<double>((-b - std::sqrt(disc)) / (2 * a));
+                        ++hits;
+                        EXPECT_LE(r.t_lo, t + 1e-12) << where << " pixel " << k;
+                        EXPECT_GE(r.t_hi, t - 1e-12) << where << " pixel " << k;
+                        const double allowed = aov == Aov::Depth          ? 1e-6 * r.t_hi
+                                               : p == Projection::Pinhole ? 0.5 * pitch * r.t_hi
+                                                                          : 0.5 * pitch;
+                        widest = std::max(widest, (r.t_hi - r.t_lo) / allowed);
+                    }
+                    EXPECT_GT(hits, 100u) << where;
+                    EXPECT_LE(widest, 1.0 + 1e-9) << where;
+                    // The option is used: some enclosure is wider than the depth AOV's 1e-6.
+                    if (aov == Aov::Shade) EXPECT_GT(widest, 1e-3) << where;
+                }
+            }
+        }
+    }
+}
+
 TEST(Coherent, PerRaySolverDefaultsKeepTheAnswers) {
     // The solver's defaults (4-ulp hits, the exact oracle narrowing them) instead of the image
     // options: the same statuses, Hits still consistent.
