@@ -18,10 +18,12 @@
 // x87 control word directly (what glibc's fesetround does, without the libm call).
 // + − × square sqrt abs min max are branch-free on the common path (one predictable test sends
 // infinities, NaN and empty operands to Boost's case tables: the same bounds, bit for bit, up to
-// the sign of a zero bound); ÷, pow, exp, log, sin, cos are Boost's. exp, log, sin, cos: glibc
-// ignores the rounding mode, so the round-to-nearest result is widened outward by kTranscUlps ulps
-// (glibc documents ≤ 1 ulp for these on x86_64), with exact values at the points where the function
-// value is exactly representable.
+// the sign of a zero bound); ÷ and pow are Boost's. exp, log, sin, cos: glibc ignores the rounding
+// mode, so the round-to-nearest result is widened outward by kTranscUlps ulps (glibc documents
+// ≤ 1 ulp for these on x86_64), with exact values at the points where the function value is
+// exactly representable; both bounds of an interval are computed under one switch to
+// round-to-nearest (WidenedTransc: exp_bounds, log_bounds, trig_bounds, which also places the
+// extrema of sin and cos from outward bounds of x/π).
 #pragma once
 
 #include <bit>
@@ -259,6 +261,56 @@ struct WidenedTransc : Rounding {
         if (x == 0) return 1.0;
         double r = step_up(nearest(cos_rn, x), kTranscUlps);
         return r > 1 ? 1.0 : r;
+    }
+    /// cos (sine = false) or sin over [lo, hi] (finite, lo ≤ hi) in place, in upward mode, with
+    /// one mode switch: the endpoint values widened by kTranscUlps ulps (exact at 0), and ±1
+    /// wherever an extremum may lie inside. The extrema of cos are at kπ, those of sin at
+    /// π/2 + kπ (1 for even k, −1 for odd k): the k with kπ (+ π/2) in [lo, hi] lie between
+    /// lo/π and hi/π (− 1/2), bounded outward with π ∈ [M_PI, next_up(M_PI)].
+    void trig_bounds(bool sine, double& lo, double& hi) {
+        constexpr double pi_lo = 3.141592653589793;  // the double below π
+        const double pi_hi = next_up(pi_lo);
+        const double l = lo, u = hi;
+        if (!(u - l < 2 * pi_lo)) {  // a whole period (the width rounded up)
+            lo = -1.0;
+            hi = 1.0;
+            return;
+        }
+        // Outward bounds of l/π and u/π (upward mode: a quotient rounded down is −((−a)/b)).
+        double qlo = -((-l) / (l >= 0 ? pi_hi : pi_lo));
+        double qhi = u / (u >= 0 ? pi_lo : pi_hi);
+        if (sine) {
+            qlo = -(0.5 - qlo);
+            qhi = qhi - 0.5;
+        }
+        qlo = opaque(qlo);  // rounded upward, before the switch
+        qhi = opaque(qhi);
+        double a = l, b = u;
+        nearest2(sine ? sin_rn : cos_rn, a, b);
+        const double at0 = sine ? 0.0 : 1.0;  // exact values at 0
+        const double la = l == 0 ? at0 : step_down(a, kTranscUlps);
+        const double lb = u == 0 ? at0 : step_down(b, kTranscUlps);
+        const double ua = l == 0 ? at0 : step_up(a, kTranscUlps);
+        const double ub = u == 0 ? at0 : step_up(b, kTranscUlps);
+        lo = std::max(-1.0, std::min(la, lb));
+        hi = std::min(1.0, std::max(ua, ub));
+        if (!(std::fabs(qlo) < 0x1p52 && std::fabs(qhi) < 0x1p52)) {  // k's parity unknown
+            lo = -1.0;
+            hi = 1.0;
+            return;
+        }
+        const double k0 = std::ceil(qlo), k1 = std::floor(qhi);
+        if (k0 > k1) return;  // no extremum inside: monotone
+        if (k1 > k0) {        // two extrema, of both signs
+            lo = -1.0;
+            hi = 1.0;
+            return;
+        }
+        if (std::fmod(k0, 2.0) == 0) {
+            hi = 1.0;
+        } else {
+            lo = -1.0;
+        }
     }
 };
 
@@ -782,24 +834,30 @@ BasicInterval<M> log(const BasicInterval<M>& x) {
     rnd.log_bounds(lo, hi);  // both bounds under one mode switch
     return {typename BasicInterval<M>::Boost(lo, hi), x.defined};
 }
-/// cos: the box is reduced modulo 2π with interval π bounds; a box of width ≥ 2π, an unbounded
-/// box or a reduction too coarse to tell gives [−1, 1]; otherwise monotone pieces.
+/// cos: the endpoint values, and ±1 where an extremum kπ may lie inside (WidenedTransc::
+/// trig_bounds); a box of width ≥ 2π or an unbounded box gives [−1, 1].
 template <class M>
 BasicInterval<M> cos(const BasicInterval<M>& x) {
     [[maybe_unused]] typename M::Guard guard;
     if (x.is_empty()) return BasicInterval<M>::empty();
     if (!std::isfinite(x.lower()) || !std::isfinite(x.upper()))
         return {BasicInterval<M>(-1.0, 1.0).iv, x.defined};
-    return {boost::numeric::cos(x.iv), x.defined};
+    typename M::Policies::rounding rnd;
+    double lo = x.lower(), hi = x.upper();
+    rnd.trig_bounds(false, lo, hi);  // both bounds under one mode switch
+    return {typename BasicInterval<M>::Boost(lo, hi), x.defined};
 }
-/// sin(x) = cos(x − π/2) with π/2 as an interval.
+/// sin: as cos, with the extrema at π/2 + kπ.
 template <class M>
 BasicInterval<M> sin(const BasicInterval<M>& x) {
     [[maybe_unused]] typename M::Guard guard;
     if (x.is_empty()) return BasicInterval<M>::empty();
     if (!std::isfinite(x.lower()) || !std::isfinite(x.upper()))
         return {BasicInterval<M>(-1.0, 1.0).iv, x.defined};
-    return {boost::numeric::sin(x.iv), x.defined};
+    typename M::Policies::rounding rnd;
+    double lo = x.lower(), hi = x.upper();
+    rnd.trig_bounds(true, lo, hi);  // both bounds under one mode switch
+    return {typename BasicInterval<M>::Boost(lo, hi), x.defined};
 }
 /// min([a, b], [c, d]) = [min(a, c), min(b, d)]. Exact.
 template <class M>

@@ -239,6 +239,38 @@ TEST(IntervalCases, ExactValues) {
     EXPECT_EQ(z.upper(), 0);
 }
 
+TEST(IntervalCases, SinAndCosReachTheirExtremaExactlyWhereMathematicsPutsThem) {
+    // π ∈ [3, 3.3]: cos reaches −1 there; on [3.2, 3.3] (past π, below 2π) cos increases, so the
+    // range is [cos 3.2, cos 3.3] (-0.99829… and -0.98747…), with no ±1.
+    const Interval c1 = cos(Interval(3, 3.3));
+    EXPECT_EQ(c1.lower(), -1.0);
+    EXPECT_GT(c1.upper(), -0.98748);
+    EXPECT_LT(c1.upper(), -0.98746);
+    const Interval c2 = cos(Interval(3.2, 3.3));
+    EXPECT_GT(c2.lower(), -0.99830);
+    EXPECT_LT(c2.lower(), -0.99829);
+    EXPECT_LT(c2.upper(), -0.98746);
+    // sin: 1 at π/2 ∈ [1.5, 1.6], −1 at −π/2, 1 again at 5π/2 ∈ [7.8, 7.9], −1 at 3π/2 only.
+    EXPECT_EQ(sin(Interval(1.5, 1.6)).upper(), 1.0);
+    EXPECT_GT(sin(Interval(1.5, 1.6)).lower(), 0.997);  // sin 1.5 = 0.99749…
+    EXPECT_EQ(sin(Interval(-1.6, -1.5)).lower(), -1.0);
+    EXPECT_EQ(sin(Interval(7.8, 7.9)).upper(), 1.0);
+    const Interval s3 = sin(Interval(4.6, 4.8));  // 3π/2 = 4.712…
+    EXPECT_EQ(s3.lower(), -1.0);
+    EXPECT_LT(s3.upper(), -0.99);  // sin 4.6 = −0.99369…, sin 4.8 = −0.99616…
+    // Both extrema inside, or a whole period: [−1, 1].
+    const Interval both = cos(Interval(3, 6.5));
+    EXPECT_EQ(both.lower(), -1.0);
+    EXPECT_EQ(both.upper(), 1.0);
+    // Exact at 0, and the arguments where k is too large to know its parity give [−1, 1].
+    EXPECT_EQ(sin(Interval(0.0)).lower(), 0.0);
+    EXPECT_EQ(sin(Interval(0.0)).upper(), 0.0);
+    EXPECT_EQ(cos(Interval(0.0)).lower(), 1.0);
+    const Interval huge = sin(Interval(1e300));
+    EXPECT_EQ(huge.lower(), -1.0);
+    EXPECT_EQ(huge.upper(), 1.0);
+}
+
 TEST(IntervalCases, EmptyAndUnbounded) {
     Interval e = Interval::empty();
     EXPECT_TRUE(e.is_empty());
