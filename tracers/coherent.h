@@ -103,10 +103,11 @@ struct CoherentStats {
     std::uint64_t boxes_excluded = 0;    ///< boxes proven free of zeros (solid: f ≥ 0 on them)
     std::uint64_t boxes_inside = 0;      ///< solid: boxes proven inside (f < 0), rays answered
     std::uint64_t leaf_solves = 0;       ///< certified solves of one ray on one segment
-    std::uint64_t fallbacks = 0;         ///< leaf Unknowns redone on the rest of the ray
-    std::uint64_t splits = 0;            ///< undecided one-ray leaf segments split in two again
-    std::uint64_t prunes = 0;            ///< boxes whose tape was shortened
-    std::uint64_t tape_length = 0;       ///< instructions of the full tape
+    std::uint64_t scans = 0;        ///< leaf segments decided by scanning pieces (depth_pixels)
+    std::uint64_t fallbacks = 0;    ///< leaf Unknowns redone on the rest of the ray
+    std::uint64_t splits = 0;       ///< undecided one-ray leaf segments split in two again
+    std::uint64_t prunes = 0;       ///< boxes whose tape was shortened
+    std::uint64_t tape_length = 0;  ///< instructions of the full tape
 };
 
 /// The rays of an image, pixel by pixel: what render_3d_coherent answers, and what a per-ray
