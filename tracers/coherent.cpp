@@ -139,8 +139,9 @@ class Walker {
     };
     void node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
               unsigned depth, const Hull* given = nullptr);
-    void leaf(const Rect& r, double a, double b, const Ssa& list, const expr::Tape& tape,
-              unsigned depth);
+    /// `tape`: the register tape of `list`, or null (built into `level` when a solver needs it).
+    void leaf(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
+              Level& level, unsigned depth);
     /// An image's leaf segment s in pieces as wide as the depth a hit may have, front to back,
     /// with `list` (equal to f on s): Miss if every piece is proven free; a Hit [p, q] on the
     /// first piece that is not, when a point evaluation proves it (solid: g(q) < 0, or g < 0 on
@@ -444,15 +445,19 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
             return;
         }
     }
-    if (sub_tape == nullptr) {
-        level.tape = tape_of(*sub);
-        sub_tape = &level.tape;
-    }
-    leaf(r, a, b, *sub, *sub_tape, depth);
+    leaf(r, a, b, *sub, sub_tape, level, depth);
 }
 
-void Walker::leaf(const Rect& r, double a, double b, const Ssa& list, const expr::Tape& tape,
-                  unsigned depth) {
+void Walker::leaf(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
+                  Level& level, unsigned depth) {
+    // The register tape only when a solver runs (a scan walks the list itself).
+    const auto solver_tape = [&]() -> const expr::Tape& {
+        if (tape == nullptr) {
+            level.tape = tape_of(list);
+            tape = &level.tape;
+        }
+        return *tape;
+    };
     for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
         for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
             Px& p = px(i, j);
@@ -473,11 +478,11 @@ void Walker::leaf(const Rect& r, double a, double b, const Ssa& list, const expr
                     const EvalCounts spent = res.evals;
                     Ray rest = s;
                     rest.tmin = res.t_lo;
-                    res = solve(tape, rest);
+                    res = solve(solver_tape(), rest);
                     res.evals += spent;
                 }
             } else {
-                res = solve(tape, s);
+                res = solve(solver_tape(), s);
             }
             if (res.status == Status::Miss) {  // free of zeros up to b: the walk goes on
                 spend(i, j, res.evals);
@@ -493,8 +498,8 @@ void Walker::leaf(const Rect& r, double a, double b, const Ssa& list, const expr
                 spend(i, j, res.evals);
                 const double m = 0.5 * s.tmin + 0.5 * s.tmax;
                 const Rect one{i, j, 1, 1};  // this ray alone
-                node(one, s.tmin, m, list, &tape, depth + 1);
-                if (p.open) node(one, m, s.tmax, list, &tape, depth + 1);
+                node(one, s.tmin, m, list, tape, depth + 1);
+                if (p.open) node(one, m, s.tmax, list, tape, depth + 1);
                 continue;  // answered by the halves, or proven free of zeros up to s.tmax
             }
             if (res.status == Status::Unknown && s.tmax < p.ray.tmax) {
