@@ -81,6 +81,7 @@ tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {
         co.render = ro;
         co.projection = s.ortho ? tracers::Projection::Ortho : tracers::Projection::Pinhole;
         co.surface = mo.surface;
+        co.depth_pixels = s.depth_pixels;
         co.certified.budget = mo.budget;
         if (mo.tighten != 0) {  // asked for: 4-ulp hits, as the per-ray method gives
             co.certified.tighten = true;

@@ -89,6 +89,11 @@ Scene Scene::from_graph(expr::Graph graph) {
 const expr::Graph& Scene::graph() const noexcept { return state_->graph; }
 const expr::Tape& Scene::tape() const noexcept { return state_->tape; }
 bool Scene::is_2d() const noexcept { return !state_->tape.uses_var(2); }
+Scene Scene::with_defaults(std::optional<std::array<std::array<double, 2>, 3>> bounds,
+                           tracers::Surface surface) const {
+    return Scene(std::make_shared<const State>(state_->graph, bounds, surface));
+}
+
 const std::optional<std::array<std::array<double, 2>, 3>>& Scene::bounds() const noexcept {
     return state_->bounds;
 }

@@ -353,6 +353,7 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
     rs.surface = o.surface ? tracers::parse_surface(*o.surface) : spec.surface;
     rs.ortho = o.camera && *o.camera == "ortho";
     rs.coherent = !o.per_ray;
+    rs.depth_pixels = o.data ? 0.0 : 0.5;  // an image needs depths to half a pixel, data all digits
     if (rs.ortho && (!o.eye.empty() || !o.target.empty() || !o.up.empty() || o.fov)) {
         std::cerr << "certray render: --camera ortho looks along -z over the bounds: it takes no "
                      "--eye, --target, --up or --fov\n";

@@ -9,10 +9,11 @@
 // Pinhole and ortho (heightmap along −z) cameras; sizes 256², 512², 1024². Wall-clock time
 // (UseRealTime): the renders are threaded; the CPU column is the whole process's
 // (MeasureProcessCPUTime), steadier on a shared machine. `image` 1: the solver options an image
-// needs (CertifiedOptions::tighten off, hit_width 1e-6), for both engines; 0: the defaults
-// (hits narrowed to 4 ulps, by the exact oracle where the intervals cannot). Counters per pixel:
-// whole-tape evaluations (evals/px: box evaluations and every solve's), box evaluations (boxes/px),
-// leaf solves (leaves/px), and the image's hit/miss/unknown counts. Command:
+// needs (CertifiedOptions::tighten off, hit_width 1e-6), for both engines, and for the coherent
+// one hits half a pixel deep (CoherentOptions::depth_pixels 0.5, as `certray render`); 0: the
+// defaults (hits narrowed to 4 ulps, by the exact oracle where the intervals cannot). Counters per
+// pixel: whole-tape evaluations (evals/px: box evaluations and every solve's), box evaluations
+// (boxes/px), leaf solves (leaves/px), and the image's hit/miss/unknown counts. Command:
 // build/bench/coherent_bench [--benchmark_filter=…]; results in docs/benchmarks.md, "Coherent
 // certified rendering".
 #include <benchmark/benchmark.h>
@@ -60,6 +61,7 @@ tracers::CoherentOptions options(int scene, unsigned side, bool ortho, unsigned 
     tracers::CoherentOptions o;
     o.surface = solid ? tracers::Surface::Solid : tracers::Surface::Zero;
     o.certified = image ? tracers::image_solver_options() : solvers::CertifiedOptions{};
+    o.depth_pixels = image ? 0.5 : 0.0;
     const Scene& s = kScenes[scene];
     o.render.width = o.render.height = side;
     for (auto& a : o.render.bounds) a = {s.lo, s.hi};

@@ -200,9 +200,17 @@ PYBIND11_MODULE(_core, m) {
         .def("to_expr", &Scene::to_expr)
         .def_property_readonly("is_2d", &Scene::is_2d)
         .def_property_readonly("tape_size", [](const Scene& s) { return s.tape().size(); })
-        .def_property_readonly("default_surface", [](const Scene& s) {
-            return std::string(certray::tracers::name(s.default_surface()));
-        });
+        .def_property_readonly(
+            "default_surface",
+            [](const Scene& s) { return std::string(certray::tracers::name(s.default_surface())); })
+        .def_property_readonly("bounds", [](const Scene& s) { return s.bounds(); })
+        .def(
+            "with_defaults",
+            [](const Scene& s, std::optional<std::array<std::array<double, 2>, 3>> bounds,
+               const std::string& surface) {
+                return s.with_defaults(bounds, certray::tracers::parse_surface(surface));
+            },
+            py::arg("bounds"), py::arg("surface"));
     m.def("query", &query, py::arg("scene"), py::arg("rays"), py::arg("method"), py::arg("knobs"),
           py::arg("bounds"), py::arg("threads"), py::arg("surface"));
     m.def("render", &render, py::arg("scene"), py::arg("width"), py::arg("height"),

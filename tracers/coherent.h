@@ -93,7 +93,8 @@ struct CoherentOptions {
     /// pixel's angle times this; ortho: the pixel's side times this), besides
     /// certified.hit_width; the answer keeps its meaning. 0: only certified.hit_width. Not used
     /// for ray lists (query bundles) nor for the depth AOV (depths as data keep their digits).
-    double depth_pixels = 0.5;
+    /// 0.5 is what an image needs (the CLI's render, the benchmarks).
+    double depth_pixels = 0;
 };
 
 /// What the coherent walk did, summed over the image.

@@ -34,6 +34,11 @@ struct RenderSettings {
     /// (tracers/coherent.h: rays sharing interval work, each pixel keeping its certified
     /// meaning); false: one independent ray per pixel, as for the other methods.
     bool coherent = true;
+    /// Coherent certified images: a pixel's hit enclosure may stop narrowing once it is this many
+    /// pixel footprints deep (tracers::CoherentOptions::depth_pixels; faster). 0: depths to 10⁻⁶
+    /// relative, what a program reading the answers' t wants. The CLI uses 0.5 for an image
+    /// written without --data.
+    double depth_pixels = 0;
     std::optional<tracers::Camera> camera;               ///< unset: auto-framed
     double fov_degrees = tracers::Camera{}.fov_degrees;  ///< of the auto-framed camera
     tracers::Aov aov = tracers::Aov::Shade;

@@ -44,6 +44,10 @@ class Scene {
     tracers::Surface default_surface() const noexcept;
     /// f in the expression language (parses back to the same function).
     std::string to_expr() const;
+    /// The same function with the given bounds and default surface: what a copy rebuilt from
+    /// to_expr() needs to keep a loaded file's (Python's pickle of a scene).
+    Scene with_defaults(std::optional<std::array<std::array<double, 2>, 3>> bounds,
+                        tracers::Surface surface) const;
 
   private:
     struct State;

@@ -82,8 +82,21 @@ class Scene:
         """'solid' for Fidget .vm files and CSG trees, 'zero' for the others."""
         return self._core.default_surface
 
+    @property
+    def bounds(self):
+        """The bounds the file gives ((lo, hi) for x, y, z: a CSG tree's aabb, a .vm's view), or
+        None."""
+        b = self._core.bounds
+        return None if b is None else tuple(tuple(axis) for axis in b)
+
+    @classmethod
+    def _restore(cls, text, surface, bounds):
+        return cls(_core.Scene.parse(text).with_defaults(bounds, surface), text=text)
+
     def __reduce__(self):
-        return (Scene.parse, (self.to_expr(),))
+        # The expression text with the file's bounds and default surface, so that a copy renders
+        # and answers as the original does.
+        return (Scene._restore, (self.to_expr(), self.default_surface, self.bounds))
 
     def __repr__(self):
         src = self._path or "<expression>"

@@ -72,6 +72,22 @@ def test_scenes_pickle_as_their_text():
     np.testing.assert_array_equal(a["t_lo"], b["t_lo"])
 
 
+def test_pickled_scenes_keep_the_file_bounds_and_surface():
+    # A Fidget .vm: the solid by default, over Fidget's [-1, 1]^3; a CSG tree: its aabb.
+    for name in ("fidget/hi.vm", "molecule.json"):
+        scene = certray.Scene.load(os.path.join(SCENES, name))
+        again = pickle.loads(pickle.dumps(scene))
+        assert scene.default_surface == "solid"
+        assert again.default_surface == "solid"
+        assert scene.bounds is not None
+        assert again.bounds == scene.bounds
+    vm = certray.Scene.load(os.path.join(SCENES, "fidget/hi.vm"))
+    assert vm.bounds == ((-1.0, 1.0), (-1.0, 1.0), (-1.0, 1.0))
+    expr = pickle.loads(pickle.dumps(certray.Scene.load(os.path.join(SCENES, "torus.expr"))))
+    assert expr.default_surface == "zero"
+    assert expr.bounds is None
+
+
 def test_registry():
     methods = {m["name"]: m for m in certray.methods()}
     assert methods["certified"]["certified"] is True

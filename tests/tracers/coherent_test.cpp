@@ -262,6 +262,7 @@ TEST(Coherent, HitsAreHalfAPixelDeepAndHoldTheRootOfMathematics) {
                     CoherentOptions o = small_view(p);
                     o.surface = surface;
                     o.render.aov = aov;
+                    o.depth_pixels = 0.5;
                     std::vector<RayResult> results;
                     CoherentStats stats;
                     render_3d_coherent(tape, o, &stats, &results);
@@ -432,6 +433,8 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     o.aspect = *rc::gen::element(0.25, 0.5, 2.0);
     o.mean_value_rays = *rc::gen::element(0u, 4u, 16u, 1000u);
     o.render.threads = *rc::gen::element(1u, 2u);
+    o.depth_pixels = *rc::gen::element(0.0, 0.5, 2.0);  // leaf segments scanned in pieces
+    o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
     o.certified.budget = 2000;  // the image options otherwise
     const Agreement a = against_per_ray(tape, o);
     RC_ASSERT(a.wrong == 0u);
