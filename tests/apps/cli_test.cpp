@@ -179,6 +179,24 @@ TEST_F(Cli, InspectDefaultBoundsMatchRender) {
     EXPECT_NE(out_.find("2D over [-1, 1]^2"), std::string::npos) << out_;
     ASSERT_EQ(run("inspect sphere.expr --levels 1"), 0) << err_;
     EXPECT_NE(out_.find("3D over [-2, 2]^3"), std::string::npos) << out_;
+    // A file's own bounds, as render frames it: a .vm's view (Fidget's [-1, 1]^3 when its header
+    // says nothing), a CSG tree's aabb per axis; --bounds overrides them.
+    write("ball.vm",
+          "_0 var-x\n_1 var-y\n_2 var-z\n_3 square _0\n_4 square _1\n_5 square _2\n"
+          "_6 add _3 _4\n_7 add _6 _5\n_8 const 0.25\n_9 sub _7 _8\n");
+    ASSERT_EQ(run("inspect ball.vm --levels 1"), 0) << err_;
+    EXPECT_NE(out_.find("3D over [-1, 1]^3 (the file's bounds)"), std::string::npos) << out_;
+    // f = x² + y² + z² − 1/4 over [-1, 1]^3: [−0.25, 2.75].
+    EXPECT_NE(out_.find("f over the bounds: [-0.25, 2.75]"), std::string::npos) << out_;
+    write("box.json", R"({"aabb_min": [-1, -1, -1.5], "aabb_max": [1, 1, 1.5],
+        "nodeType": "primitive", "primitiveType": "sphere", "radius": 0.5, "round_x": 0.0,
+        "round_y": 0.0, "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0]})");
+    ASSERT_EQ(run("inspect box.json --levels 1"), 0) << err_;
+    EXPECT_NE(out_.find("3D over [-1, 1] x [-1, 1] x [-1.5, 1.5] (the file's bounds)"),
+              std::string::npos)
+        << out_;
+    ASSERT_EQ(run("inspect ball.vm --levels 1 --bounds -2 2"), 0) << err_;
+    EXPECT_NE(out_.find("3D over [-2, 2]^3\n"), std::string::npos) << out_;
 }
 
 }  // namespace
