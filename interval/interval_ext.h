@@ -12,8 +12,11 @@
 // atan2 and their decorations); Fidget (mkeeter/fidget) `FloatExt` for compare, and, or, not, mod.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <utility>
 
 namespace certray {
 
@@ -88,6 +91,21 @@ BasicInterval<M> round(const BasicInterval<M>& x) {
     return detail::integer_step(x, [](double v) { return std::round(v); });
 }
 
+namespace detail {
+/// For finite a ≤ b, with k(t) = (t − π/2)/π (the poles of tan are the integers of k): n =
+/// ⌊lower(k(a))⌋ and upper(k(b)). No pole lies in [a, b] when upper(k(b)) ≤ n + 1, at most one
+/// (π/2 + nπ… the pole n + 1 of k) when it is < n + 2. A pole is irrational, never a double: k(a)
+/// ≠ n and k(b) ≠ n + 1 (tan(RD(π/2)) is finite and defined). Written t/π − ½ (not (t − π/2)/π,
+/// which widens twice): tight for t = ±RD(π/2). Runs in M's environment.
+template <class M>
+std::pair<double, double> tan_branch(double a, double b) {
+    using I = BasicInterval<M>;
+    const I pi(kPiLo, kPiHi), half(0.5);
+    const I ka = I(a) / pi - half, kb = I(b) / pi - half;
+    return {std::floor(ka.lower()), kb.upper()};
+}
+}  // namespace detail
+
 /// tan on [a, b]:
 ///   empty              → empty
 ///   a or b infinite    → entire, not defined
@@ -101,14 +119,8 @@ BasicInterval<M> tan(const BasicInterval<M>& x) {
     if (x.is_empty()) return I::empty();
     const double a = x.lower(), b = x.upper();
     if (!std::isfinite(a) || !std::isfinite(b)) return I{I::Boost::whole(), false};
-    // k(t) = (t − π/2)/π: no pole in [a, b] iff one integer n has n < k(a) ≤ k(b) < n + 1. A
-    // pole is irrational, never a double: k(a) ≠ n and k(b) ≠ n + 1, so n = ⌊lower(k(a))⌋ and
-    // upper(k(b)) ≤ n + 1 suffice (tan(RD(π/2)) is finite and defined).
-    // Written t/π − ½ (not (t − π/2)/π, which widens twice): tight for t = ±RD(π/2).
-    const I pi(detail::kPiLo, detail::kPiHi), half(0.5);
-    const I ka = I(a) / pi - half, kb = I(b) / pi - half;
-    const double n = std::floor(ka.lower());
-    if (!(std::isfinite(n) && kb.upper() <= n + 1)) {
+    const auto [n, kb] = detail::tan_branch<M>(a, b);
+    if (!(std::isfinite(n) && kb <= n + 1)) {
         I r = I::entire();
         r.defined = false;
         return r;
@@ -117,6 +129,25 @@ BasicInterval<M> tan(const BasicInterval<M>& x) {
     const auto f = [](double v) { return std::tan(v); };
     return detail::from_bounds<M>(detail::transc_down(f, a, -kInf), detail::transc_up(f, b, kInf),
                                   x.defined);
+}
+
+/// tan on [a, b] across one pole: when [a, b] (finite) holds at most one pole p = π/2 + nπ and
+/// may hold one, tan takes its values in [tan a ↓, +∞] (on [a, p)) ∪ [−∞, tan b ↑] (on (p, b]),
+/// each piece not defined; otherwise nothing (tan(x) is then the enclosure: [tan a, tan b] or
+/// entire). What the two-piece enclosures of interval/interval_pair.h see past a pole with.
+template <class M>
+std::optional<std::array<BasicInterval<M>, 2>> tan_branches(const BasicInterval<M>& x) {
+    [[maybe_unused]] typename M::Guard guard;  // the library's environment (interval.h)
+    using I = BasicInterval<M>;
+    if (x.is_empty() || !std::isfinite(x.lower()) || !std::isfinite(x.upper())) return {};
+    const double a = x.lower(), b = x.upper();
+    const auto [n, kb] = detail::tan_branch<M>(a, b);
+    if (!(std::isfinite(n) && n + 1 < kb && kb < n + 2)) return {};
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    const auto f = [](double v) { return std::tan(v); };
+    I left = detail::from_bounds<M>(detail::transc_down(f, a, -kInf), kInf, false);
+    I right = detail::from_bounds<M>(-kInf, detail::transc_up(f, b, kInf), false);
+    return std::array<I, 2>{left, right};
 }
 
 /// asin on [a, b] ∩ [−1, 1] (empty if disjoint): [asin a ↓, asin b ↑] within [−π/2, π/2];

@@ -187,8 +187,25 @@ inline IntervalPair ceil(const IntervalPair& a) {
 inline IntervalPair round(const IntervalPair& a) {
     return detail::unary(a, [](const Interval& x) { return round(x); });
 }
+/// tan piece by piece; a piece across one pole gives its two branches (tan_branches), so that a
+/// sign change across the pole is never taken for a root and the pieces beyond it are seen.
 inline IntervalPair tan(const IntervalPair& a) {
-    return detail::unary(a, [](const Interval& x) { return tan(x); });
+    std::array<Interval, 8> w;
+    int m = 0;
+    bool defined = a.defined;
+    for (const Interval& x : a.p) {
+        if (x.is_empty()) continue;
+        if (const auto branches = tan_branches(x)) {
+            w[m++] = (*branches)[0];
+            w[m++] = (*branches)[1];
+            defined = false;
+        } else {
+            w[m] = tan(x);
+            defined = defined && w[m].defined;
+            ++m;
+        }
+    }
+    return detail::reduce(w, m, defined);
 }
 inline IntervalPair asin(const IntervalPair& a) {
     return detail::unary(a, [](const Interval& x) { return asin(x); });

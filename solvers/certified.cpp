@@ -62,12 +62,12 @@ class Solver {
         return v;
     }
     /// No zero of g in T, given v = G(T): 0 ∉ v; or, where v holds 0 but g is not proven defined
-    /// on T and the tape divides, 0 lies in neither piece of the two-piece enclosure of g over T
+    /// on T and the tape has poles, 0 lies in neither piece of the two-piece enclosure of g over T
     /// (a pole inside T: a zero needs g defined, and g's values on either side of the pole are
     /// bounded away from 0). One more interval evaluation, counted, and only then.
     bool excluded(const Interval& t, const Interval& v) {
         if (!possibly_zero(v)) return true;
-        if (v.defined || !s_.field.divides(tape_)) return false;
+        if (v.defined || !s_.field.has_poles(tape_)) return false;
         ++result_.evals.interval;
         return !possibly_zero(s_.field.g_pair(tape_, ray_, t));
     }

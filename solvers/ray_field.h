@@ -39,14 +39,17 @@ struct Field {
     std::vector<UpInterval> up_regs;            ///< registers of g (E = Interval)
     std::vector<Dual<UpInterval, 1>> up_duals;  ///< registers of g_dual (E = Interval)
 
-    /// Whether `tape` divides (has poles for g_pair to see past); remembered for the last tape.
-    bool divides(const expr::Tape& tape) {
-        if (tape.serial() == 0 || tape.serial() != divides_serial_) {
-            divides_ = std::any_of(tape.instrs().begin(), tape.instrs().end(),
-                                   [](const expr::Instr& in) { return in.op == expr::Op::Div; });
-            divides_serial_ = tape.serial();
+    /// Whether `tape` has poles for g_pair to see past (a division, a tan); remembered for the
+    /// last tape.
+    bool has_poles(const expr::Tape& tape) {
+        if (tape.serial() == 0 || tape.serial() != poles_serial_) {
+            poles_ = std::any_of(tape.instrs().begin(), tape.instrs().end(),
+                                   [](const expr::Instr& in) {
+                                       return in.op == expr::Op::Div || in.op == expr::Op::Tan;
+                                   });
+            poles_serial_ = tape.serial();
         }
-        return divides_;
+        return poles_;
     }
 
     static E lift(const Interval& x) {
@@ -111,8 +114,8 @@ struct Field {
     }
 
   private:
-    std::uint64_t divides_serial_ = 0;
-    bool divides_ = false;
+    std::uint64_t poles_serial_ = 0;
+    bool poles_ = false;
 
   public:
     /// g over T as a union of at most two intervals (interval/interval_pair.h), in double

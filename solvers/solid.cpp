@@ -71,7 +71,7 @@ class Solver {
             ++result_.evals.interval;
             v = s_.field.refine_affine(tape_, ray_, t, v);
         }
-        if (!outside(v) && !proven_neg(v) && !v.defined && s_.field.divides(tape_)) {
+        if (!outside(v) && !proven_neg(v) && !v.defined && s_.field.has_poles(tape_)) {
             // A pole inside T makes the ordinary enclosure the whole line; the two-piece one sees
             // past it (interval/interval_pair.h).
             ++result_.evals.interval;

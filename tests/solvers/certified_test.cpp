@@ -238,6 +238,50 @@ TEST(IntervalPair, DivisionByAnIntervalAroundZeroGivesTwoPieces) {
     EXPECT_EQ(q.p[0].lower(), 0.25);
 }
 
+TEST(IntervalPair, TanAcrossOnePoleGivesItsTwoBranches) {
+    // π/2 ∈ [1.5, 1.7]: tan is tan 1.5 = 14.10… up to +∞ on [1.5, π/2), and −∞ up to
+    // tan 1.7 = −7.6966… on (π/2, 1.7].
+    const IntervalPair t = tan(IntervalPair(Interval(1.5, 1.7)));
+    EXPECT_FALSE(t.defined);
+    EXPECT_EQ(t.p[0].lower(), -kInf);
+    EXPECT_GT(t.p[0].upper(), -7.6967);
+    EXPECT_LT(t.p[0].upper(), -7.6966);
+    EXPECT_GT(t.p[1].lower(), 14.1014);
+    EXPECT_LT(t.p[1].lower(), 14.1015);
+    EXPECT_EQ(t.p[1].upper(), kInf);
+    EXPECT_FALSE(possibly_zero(t + IntervalPair(1.0)));  // tan x + 1 = 0 only at 3π/4 > 1.7
+    for (double x = 1.5; x <= 1.7; x += 1.0 / 512) {
+        EXPECT_TRUE(contains(t.p[0], std::tan(x)) || contains(t.p[1], std::tan(x))) << x;
+    }
+    // No pole in [1, 1.5]: one defined piece; two poles (π/2, 3π/2) in [1, 5]: entire.
+    const IntervalPair none = tan(IntervalPair(Interval(1.0, 1.5)));
+    EXPECT_TRUE(none.defined);
+    EXPECT_TRUE(none.p[1].is_empty());
+    EXPECT_GT(none.p[0].lower(), 1.5574);  // tan 1 = 1.5574…
+    const IntervalPair two = tan(IntervalPair(Interval(1.0, 5.0)));
+    EXPECT_EQ(two.hull().lower(), -kInf);
+    EXPECT_EQ(two.hull().upper(), kInf);
+    EXPECT_TRUE(possibly_zero(two));
+}
+
+TEST(Certified, RootsPastATanPoleAreNarrowed) {
+    // tan x + 1 from x = 0.5 along +x: positive up to the pole π/2, then −∞ rising to its zero at
+    // x = 3π/4 (t = 3π/4 − 0.5). The sign change across the pole is not a root, and the root past
+    // it is enclosed to a few ulps (it was enclosed from the pole on).
+    const Tape t = tape_of("tan(x) + 1");
+    mpfr_t root;
+    mpfr_init2(root, 256);
+    mpfr_const_pi(root, MPFR_RNDN);
+    mpfr_mul_ui(root, root, 3, MPFR_RNDN);
+    mpfr_div_ui(root, root, 4, MPFR_RNDN);  // 3π/4 to 256 bits
+    for (double ox : {0.5, 1.0, 1.5}) {
+        const Ray ray{{ox, 0, 0}, {1, 0, 0}, 0, 10};
+        SCOPED_TRACE("o.x " + std::to_string(ox));
+        expect_hit_at_x(ray, certified_first_root(t, ray), root);
+    }
+    mpfr_clear(root);
+}
+
 TEST(Certified, RootsPastAPoleAreNarrowedAndPolesAloneAreMisses) {
     // 1/(x − c) + ½ has its pole at x = c and its one zero at x = c − 2 (c the double nearest 0.3:
     // the zero is not a double). Past the pole the first root was enclosed from the pole on
