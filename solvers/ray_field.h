@@ -43,10 +43,10 @@ struct Field {
     /// last tape.
     bool has_poles(const expr::Tape& tape) {
         if (tape.serial() == 0 || tape.serial() != poles_serial_) {
-            poles_ = std::any_of(tape.instrs().begin(), tape.instrs().end(),
-                                   [](const expr::Instr& in) {
-                                       return in.op == expr::Op::Div || in.op == expr::Op::Tan;
-                                   });
+            poles_ =
+                std::any_of(tape.instrs().begin(), tape.instrs().end(), [](const expr::Instr& in) {
+                    return in.op == expr::Op::Div || in.op == expr::Op::Tan;
+                });
             poles_serial_ = tape.serial();
         }
         return poles_;
