@@ -100,7 +100,8 @@ class Walker {
           ans_(answers),
           results_(results),
           solid_(options.surface == Surface::Solid),
-          mean_value_rays_(options.mean_value_rays.value_or(solid_ ? 0 : 16)),
+          mean_value_rays_(options.mean_value_rays.value_or(16)),
+          adaptive_(!options.mean_value_rays.has_value()),
           certified_(options.certified),
           choices_(has_choices(tape.ssa())),
           t_splits_(rays.projection() != Projection::Ortho || tape.uses_var(2)),
@@ -182,9 +183,25 @@ class Walker {
     const CoherentOptions& options_;
     const PixelRays& rays_;
     PixelAnswers& ans_;
-    std::vector<RayResult>* results_;      ///< every answer, when the caller asks
-    const bool solid_;                     ///< the solid surface (else the zero set)
-    const unsigned mean_value_rays_;       ///< CoherentOptions::mean_value_rays, resolved
+    std::vector<RayResult>* results_;  ///< every answer, when the caller asks
+    const bool solid_;                 ///< the solid surface (else the zero set)
+    const unsigned mean_value_rays_;   ///< CoherentOptions::mean_value_rays, resolved
+    /// The mean value form is tried while it pays in the current root tile (unset option).
+    const bool adaptive_;
+    /// This root tile's mean value forms: tried, proving what the interval form did not, and
+    /// attempts passed over since the last one tried.
+    unsigned mv_tries_ = 0, mv_proofs_ = 0, mv_passed_ = 0;
+    /// Whether to try the mean value form on a box of `count` rays: while it is worth its cost
+    /// (about four box evaluations) in this tile — the first 16 tries, then while at least one
+    /// in four proves, and one in eight otherwise, to notice when it pays again.
+    bool try_mean_value(unsigned count) {
+        if (count > mean_value_rays_) return false;
+        if (!adaptive_ || mv_tries_ < 16 || 4 * mv_proofs_ >= mv_tries_ || ++mv_passed_ % 8 == 0) {
+            ++mv_tries_;
+            return true;
+        }
+        return false;
+    }
     solvers::CertifiedOptions certified_;  ///< options.certified with the image's depth width
     solvers::SolidOptions solid_options_;
     const bool choices_;  ///< the tape has min/max: pruning can shorten it
@@ -322,6 +339,7 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
 
 void Walker::tile(const Rect& r) {
     root_ = r;
+    mv_tries_ = mv_proofs_ = mv_passed_ = 0;  // each tile decides afresh (the same in any thread)
     px_.assign(std::size_t{r.w} * r.h, Px{});
     double a = kInf, b = -kInf;
     for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
@@ -400,9 +418,10 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     // Zero: 0 ∉ F (or f undefined on the whole box), no ray meets f = 0 here. Solid: F ≥ 0, no
     // ray enters {f < 0} here; or F < 0, every ray enters at its first point in the box.
     Proof proven = proof(f);
-    if (proven == Proof::None && count <= mean_value_rays_) {
+    if (proven == Proof::None && try_mean_value(count)) {
         const UpInterval m = mean_value(list, a, b, olo, ohi, dlo, dhi);
         if (!m.is_empty()) proven = proof(m);  // empty: the form does not apply
+        mv_proofs_ += proven != Proof::None;
     }
     if (proven == Proof::Excluded) {
         ++stats.boxes_excluded;
