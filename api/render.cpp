@@ -68,9 +68,10 @@ tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {
     ro.light = s.light;
     ro.threads = s.threads;
     ro.progress = s.progress;
-    ro.camera = s.camera ? *s.camera
-                         : auto_frame(scene, ro.bounds, s.fov_degrees,
-                                      static_cast<double>(s.width) / s.height);
+    ro.camera = s.camera  ? *s.camera
+                : s.ortho ? tracers::Camera{}  // the heightmap has no camera to frame
+                          : auto_frame(scene, ro.bounds, s.fov_degrees,
+                                       static_cast<double>(s.width) / s.height);
     mo.bounds = std::array<Interval, 3>{Interval(ro.bounds[0][0], ro.bounds[0][1]),
                                         Interval(ro.bounds[1][0], ro.bounds[1][1]),
                                         Interval(ro.bounds[2][0], ro.bounds[2][1])};

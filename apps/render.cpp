@@ -392,8 +392,10 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
                   << ", " << b[2][1]
                   << "]: the picture may be clipped there (try larger --bounds)\n";
     }
-    tracers::Camera camera = auto_frame(scene, render_bounds(scene, rs), rs.fov_degrees,
-                                        static_cast<double>(rs.width) / rs.height);
+    // (The heightmap has no camera to frame.)
+    tracers::Camera camera = rs.ortho ? tracers::Camera{}
+                                      : auto_frame(scene, render_bounds(scene, rs), rs.fov_degrees,
+                                                   static_cast<double>(rs.width) / rs.height);
     if (spec.camera) {
         const auto& c = *spec.camera;
         if (c.contains("eye")) camera.eye = read_vec3(o.scene, c["eye"], "camera.eye");

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "expr/eval.h"
+#include "expr/prune.h"
 #include "interval/interval.h"
 
 namespace certray::tracers {
@@ -80,40 +81,50 @@ bool clip_ray(Ray& ray, const Box3& box) {
 }
 
 std::vector<Box3> surface_cells(const expr::Tape& tape, const Box3& bounds, int levels) {
-    using Cell = std::array<Interval, 3>;
-    expr::Evaluator<Interval> eval;
-    auto may_vanish = [&](const Cell& c) {
-        const Interval v = eval(tape, c);
-        return !v.defined || v.is_empty() || possibly_zero(v);
+    // Depth first, each cell evaluated with the list pruned to its parent (equal to f there), so
+    // that a CSG tree of thousands of primitives is not evaluated whole on every small cell; one
+    // list and one register file per level.
+    using Ssa = std::vector<expr::Instr>;
+    using Box = std::array<UpInterval, 3>;
+    levels = std::clamp(levels, 0, 6);  // at most 8^6 cells
+    struct Level {
+        std::vector<UpInterval> values;
+        Ssa list;
     };
-    std::vector<Cell> cells;
-    const Cell root{Interval(bounds[0][0], bounds[0][1]), Interval(bounds[1][0], bounds[1][1]),
-                    Interval(bounds[2][0], bounds[2][1])};
-    if (may_vanish(root)) cells.push_back(root);
-    constexpr std::size_t kMaxCells = 1u << 16;
-    for (int level = 0; level < levels && !cells.empty() && cells.size() * 8 <= kMaxCells;
-         ++level) {
-        std::vector<Cell> next;
-        for (const Cell& c : cells) {
-            const double m[3] = {midpoint(c[0]), midpoint(c[1]), midpoint(c[2])};
-            for (int k = 0; k < 8; ++k) {
-                Cell s;
-                for (int a = 0; a < 3; ++a) {
-                    s[a] =
-                        (k >> a) & 1 ? Interval(m[a], c[a].upper()) : Interval(c[a].lower(), m[a]);
-                }
-                if (may_vanish(s)) next.push_back(s);
-            }
-        }
-        cells = std::move(next);
-    }
+    std::vector<Level> level(static_cast<std::size_t>(levels) + 1);
+    expr::PruneWorkspace ws;
+    ws.absolute_values = true;
     std::vector<Box3> out;
-    out.reserve(cells.size());
-    for (const Cell& c : cells) {
-        out.push_back({{{c[0].lower(), c[0].upper()},
-                        {c[1].lower(), c[1].upper()},
-                        {c[2].lower(), c[2].upper()}}});
-    }
+    RoundingScope up;  // UpInterval arithmetic below; midpoints are only split points
+    const auto visit = [&](const auto& self, const Box& box, const Ssa& list, int depth) -> void {
+        Level& l = level[static_cast<std::size_t>(depth)];
+        if (l.values.size() < list.size()) l.values.resize(list.size());
+        expr::detail::run<UpInterval>(list, box, l.values.data());
+        const UpInterval v = l.values[list.back().out];
+        if (v.defined && !v.is_empty() && !possibly_zero(v)) return;  // f cannot vanish here
+        if (depth == levels) {
+            out.push_back({{{box[0].lower(), box[0].upper()},
+                            {box[1].lower(), box[1].upper()},
+                            {box[2].lower(), box[2].upper()}}});
+            return;
+        }
+        const Ssa* sub = &list;
+        if (expr::prune_ssa(list, l.values.data(), ws, l.list)) sub = &l.list;
+        const double m[3] = {0.5 * box[0].lower() + 0.5 * box[0].upper(),
+                             0.5 * box[1].lower() + 0.5 * box[1].upper(),
+                             0.5 * box[2].lower() + 0.5 * box[2].upper()};
+        for (int k = 0; k < 8; ++k) {
+            Box s;
+            for (int a = 0; a < 3; ++a) {
+                s[a] = (k >> a) & 1 ? UpInterval(m[a], box[a].upper())
+                                    : UpInterval(box[a].lower(), m[a]);
+            }
+            self(self, s, *sub, depth + 1);
+        }
+    };
+    const Box root{UpInterval(bounds[0][0], bounds[0][1]), UpInterval(bounds[1][0], bounds[1][1]),
+                   UpInterval(bounds[2][0], bounds[2][1])};
+    visit(visit, root, tape.ssa(), 0);
     return out;
 }
 
