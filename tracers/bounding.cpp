@@ -20,6 +20,10 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 using Box = BoundedScene::Box;
 
+/// Leaves longer than this many instructions get region-pruned tapes (a short leaf, a sphere or
+/// a box, gains nothing worth a lookup).
+constexpr std::size_t kRegionTapesAbove = 256;
+
 /// The tape of the subexpression `root` of g alone (its nodes copied into a fresh graph).
 expr::Tape sub_tape(const expr::Graph& g, expr::NodeId root) {
     expr::Graph out;
@@ -106,6 +110,15 @@ BoundedScene::BoundedScene(const expr::Tape& tape, const Box& bounds,
     const expr::Graph graph = graph_of(tape);
     if (!graph.output().valid()) throw std::invalid_argument("bounding volumes: empty tape");
     root_ = build(graph, graph.output(), 0);
+    // A long leaf (a sum of many blobs, a primitive under a long expression) is evaluated on the
+    // tape of the query box's region: the same function there, often far shorter. Built once
+    // the leaves are in place (a RegionTapes refers to its leaf's tape).
+    for (Leaf& l : leaves_) {
+        if (l.tape.size() > kRegionTapesAbove) {
+            l.regions = std::make_unique<RegionTapes>(l.tape, bounds_);
+        }
+    }
+    if (tape_.size() > kRegionTapesAbove) regions_ = std::make_unique<RegionTapes>(tape_, bounds_);
     build_seconds_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -191,7 +204,7 @@ std::uint32_t BoundedScene::balance(std::vector<std::uint32_t>& parts, std::size
 }
 
 std::uint32_t BoundedScene::leaf(const expr::Graph& g, expr::NodeId id) {
-    Leaf l{sub_tape(g, id), kInf};
+    Leaf l{sub_tape(g, id), kInf, nullptr};
     Node n{Kind::Leaf, {}, {}, static_cast<std::uint32_t>(leaves_.size()), 0};
     solid_box(l.tape, bounds_, options_, n.lo, n.hi);
     if (!n.empty()) {
@@ -244,14 +257,15 @@ Interval unknown_distance() {
 Interval BoundedScene::leaf_distance(const Leaf& l, const Box& p, double db, double rho,
                                      std::uint64_t& leaf_evals) const {
     thread_local expr::Evaluator<Interval> eval;
-    const Interval v = eval(l.tape, p);
+    const Interval v = eval(l.regions ? l.regions->at(p) : l.tape, p);
     ++leaf_evals;
     if (!detail::usable(v)) return unknown_distance();
     Interval d =
         l.lambda < kInf ? floor_at(detail::distance_bound(v, l.lambda), db) : unknown_distance();
     if (rho > 0 && (!detail::usable(d) || detail::mignitude(d) < rho / 2) && !contains(v, 0.0)) {
         ++leaf_evals;
-        const Interval near = detail::local_distance_bound(l.tape, p, v, rho);
+        const Interval near =
+            detail::local_distance_bound(l.tape, p, v, rho, l.regions.get(), &bounds_);
         if (detail::usable(near) &&
             (!detail::usable(d) || detail::mignitude(near) > detail::mignitude(d))) {
             d = near;
@@ -452,8 +466,14 @@ RayResult bounded_sphere_trace(const BoundedScene& scene, const Ray& r, const Tr
     };
     // The hit's sanity check on the tape restricted to the leaves this segment meets (built once,
     // on the first candidate hit): near its zeros it is f (same zeros and sign along the segment).
+    // A long f (region_tapes()) is checked on the tape of the point's region instead: f itself
+    // there, with no tape built per ray (particles: restrict_to copied 16,009 instructions).
     std::optional<BoundedScene::Restricted> restricted;
     auto estimate = [&](double t, EvalCounts& evals) {
+        if (const RegionTapes* regions = scene.region_tapes()) {
+            ++evals.gradient;
+            return detail::first_order_distance(regions->at(detail::point_box(ray, t)), ray, t);
+        }
         if (!restricted) restricted = scene.restrict_to(ray);
         if (restricted->sign != 0) return kInf;  // f has one sign on the whole segment
         ++evals.gradient;

@@ -7,6 +7,7 @@
 
 #include "expr/derived.h"
 #include "expr/eval.h"
+#include "tracers/region_tapes.h"
 
 namespace certray::tracers {
 
@@ -47,17 +48,32 @@ Interval distance_bound(const Interval& v, double lambda) {
 }
 
 Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval, 3>& p,
-                              const Interval& v, double rho) {
+                              const Interval& v, double rho, const RegionTapes* regions,
+                              const std::array<Interval, 3>* within) {
     std::array<Interval, 3> local;
     for (int i = 0; i < 3; ++i) {
-        local[i] = Interval(std::nextafter(p[i].lower() - rho, -kInf),
-                            std::nextafter(p[i].upper() + rho, kInf));
+        double lo = std::nextafter(p[i].lower() - rho, -kInf);
+        double hi = std::nextafter(p[i].upper() + rho, kInf);
+        if (within) {
+            lo = std::max(lo, (*within)[i].lower());
+            hi = std::min(hi, (*within)[i].upper());
+            if (!(lo <= hi)) return Interval::empty();
+        }
+        local[i] = Interval(lo, hi);
     }
-    const double lam = expr::lipschitz_bound(tape, local);
+    const double lam = expr::lipschitz_bound(regions ? regions->at(local) : tape, local);
     if (!(lam > 0 && lam < kInf)) return Interval::empty();
     const Interval q = distance_bound(v, lam);
     if (q.lower() > 0) return Interval(std::min(q.lower(), rho), std::min(q.upper(), rho));
     return Interval(std::max(q.lower(), -rho), std::max(q.upper(), -rho));
+}
+
+std::array<Interval, 3> segment_box(const Ray& ray) {
+    std::array<Interval, 3> box;
+    for (int i = 0; i < 3; ++i) {
+        box[i] = Interval(ray.o[i]) + Interval(ray.tmin, ray.tmax) * Interval(ray.d[i]);
+    }
+    return box;
 }
 
 Interval g_at(const expr::Tape& tape, const Ray& ray, double t) {
@@ -78,14 +94,57 @@ double norm_up(const std::array<double, 3>& d) {
     return sqrt(s).upper();
 }
 
-double div_down(double a, double b) {
-    if (b == 0) return a > 0 ? kInf : 0.0;
-    return (Interval(a) / Interval(b)).lower();
+namespace {
+
+/// Smallest magnitude at which a product's or quotient's error is exact by fma (far from the
+/// subnormals: |q·b| and the remainder stay normal).
+constexpr double kTiny = 0x1p-900;
+
+/// s = fl(a + b) and the sign of (a + b) − s, exact in round-to-nearest (TwoSum, Knuth), for
+/// finite a, b, s.
+int sum_error_sign(double a, double b, double s) {
+    const double bb = s - a;
+    const double e = (a - (s - bb)) + (b - bb);
+    return (e > 0) - (e < 0);
 }
 
-double add_down(double a, double b) { return (Interval(a) + Interval(b)).lower(); }
+}  // namespace
 
-double add_up(double a, double b) { return (Interval(a) + Interval(b)).upper(); }
+double div_down(double a, double b) {
+    if (b == 0) return a > 0 ? kInf : 0.0;
+    const double q = a / b;
+    if (!(std::isfinite(q) && std::fabs(q) > kTiny && std::fabs(a) > kTiny) || !std::isfinite(b)) {
+        return (Interval(a) / Interval(b)).lower();
+    }
+    // a − q·b exactly (fma; q·b is within an ulp of a, so the remainder is representable).
+    const double rem = std::fma(-q, b, a);
+    const bool q_above = b > 0 ? rem < 0 : rem > 0;
+    return q_above ? std::nextafter(q, -kInf) : q;
+}
+
+double mul_down(double a, double b) {
+    const double p = a * b;
+    if (!(std::isfinite(p) && (p == 0 ? a == 0 || b == 0 : std::fabs(p) > kTiny))) {
+        return (Interval(a) * Interval(b)).lower();
+    }
+    return std::fma(a, b, -p) < 0 ? std::nextafter(p, -kInf) : p;
+}
+
+double add_down(double a, double b) {
+    const double s = a + b;
+    if (!std::isfinite(s) || !std::isfinite(a) || !std::isfinite(b)) {
+        return (Interval(a) + Interval(b)).lower();
+    }
+    return sum_error_sign(a, b, s) < 0 ? std::nextafter(s, -kInf) : s;
+}
+
+double add_up(double a, double b) {
+    const double s = a + b;
+    if (!std::isfinite(s) || !std::isfinite(a) || !std::isfinite(b)) {
+        return (Interval(a) + Interval(b)).upper();
+    }
+    return sum_error_sign(a, b, s) > 0 ? std::nextafter(s, kInf) : s;
+}
 
 RayResult degenerate(const expr::Tape& tape, const Ray& ray) {
     RayResult r;
@@ -107,15 +166,21 @@ RayResult degenerate(const expr::Tape& tape, const Ray& ray) {
 
 }  // namespace detail
 
-RayResult march(const expr::Tape& tape, const Ray& ray, const TraceOptions& options) {
+namespace {
+
+/// The march over f evaluated by `tape_at(p)` (the tape to use at the point p).
+template <class TapeAt>
+RayResult march_with(const TapeAt& tape_at, const expr::Tape& tape, const Ray& ray,
+                     const TraceOptions& options) {
     thread_local expr::Evaluator<double> eval;
     RayResult r;
     const double dn = detail::norm_up(ray.d);
     if (dn == 0 || ray.tmin == ray.tmax) return detail::degenerate(tape, ray);
     auto g = [&](double t) {
         ++r.evals.value;
-        return eval(tape,
-                    {ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1], ray.o[2] + t * ray.d[2]});
+        const std::array<double, 3> p{ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1],
+                                      ray.o[2] + t * ray.d[2]};
+        return eval(tape_at(p), p);
     };
     auto unknown = [&](double lo) {
         r.status = Status::Unknown;
@@ -138,7 +203,7 @@ RayResult march(const expr::Tape& tape, const Ray& ray, const TraceOptions& opti
             return r;
         }
         if (t0 >= ray.tmax) break;
-        if (r.evals.total() >= options.budget || deadline.passed()) return unknown(t0);
+        if (r.evals.total() >= options.budget || deadline.passed_at(i)) return unknown(t0);
         ++i;
         // t_i from the start (no drift from repeated additions).
         const double t1 = std::min(ray.tmin + static_cast<double>(i) * h, ray.tmax);
@@ -174,6 +239,19 @@ RayResult march(const expr::Tape& tape, const Ray& ray, const TraceOptions& opti
     }
     r.status = Status::Miss;
     return r;
+}
+
+}  // namespace
+
+RayResult march(const expr::Tape& tape, const Ray& ray, const TraceOptions& options) {
+    return march_with([&tape](const std::array<double, 3>&) -> const expr::Tape& { return tape; },
+                      tape, ray, options);
+}
+
+RayResult march(const RegionTapes& regions, const Ray& ray, const TraceOptions& options) {
+    return march_with(
+        [&regions](const std::array<double, 3>& p) -> const expr::Tape& { return regions.at(p); },
+        regions.tape(), ray, options);
 }
 
 }  // namespace certray::tracers

@@ -44,6 +44,15 @@ RayResult sphere_trace(const expr::Tape& tape, const Ray& ray, double lambda,
 RayResult enhanced_trace(const expr::Tape& tape, const Ray& ray, double lambda,
                          const TraceOptions& options);
 
+/// sphere_trace and enhanced_trace on f's region-pruned tapes (tracers/region_tapes.h): each
+/// value, local bound and estimate is evaluated on the tape of its point's or box's region, the
+/// same function there (λ, over the region traced, is the caller's as above). The same contract
+/// and the same steps up to the roundings of the shorter tapes.
+RayResult sphere_trace(const RegionTapes& regions, const Ray& ray, double lambda,
+                       const TraceOptions& options);
+RayResult enhanced_trace(const RegionTapes& regions, const Ray& ray, double lambda,
+                         const TraceOptions& options);
+
 /// The evaluations after which the tracers that combine sphere tracing with segment tracing hand
 /// the rest of a piece still undecided to segment tracing: sphere tracing's free radius shrinks
 /// along a ray that grazes the surface or where λ is loose, segment tracing bounds g along the ray
