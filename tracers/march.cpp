@@ -89,6 +89,13 @@ double mignitude(const Interval& v) {
 }
 
 double norm_up(const std::array<double, 3>& d) {
+    // In round-to-nearest the sum of three squares and its root carry a relative error below
+    // 3·2⁻⁵³ (no underflow or overflow: checked), so n·(1 + 2⁻⁵⁰), rounded, then one double up,
+    // is above ‖d‖.
+    const double sq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (sq > 0x1p-900 && sq < 0x1p900) {
+        return std::nextafter(std::sqrt(sq) * (1 + 0x1p-50), kInf);
+    }
     Interval s(0.0);
     for (double x : d) s = s + square(Interval(x));
     return sqrt(s).upper();

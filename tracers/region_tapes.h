@@ -34,8 +34,9 @@ struct RegionOptions {
     int max_depth = 4;
     /// Most cells in the tree.
     std::size_t max_cells = 4681;  // 1 + 8 + 64 + 512 + 4096: every cell to level 4
-    /// Most instructions stored over all distinct tapes (a bound on memory: 40 bytes each).
-    std::size_t max_instructions = std::size_t{1} << 22;
+    /// Most instructions stored over all distinct tapes (a bound on memory: 48 bytes each, the
+    /// register and the SSA form; 2²⁰ instructions: 48 MiB).
+    std::size_t max_instructions = std::size_t{1} << 20;
     /// A cell whose tape is this short is not split.
     std::size_t min_split = 16;
 };

@@ -40,13 +40,19 @@ Interval tape_distance(const expr::Tape& tape, const RegionTapes* regions, const
     if (!detail::usable(v)) return v;
     Interval d = detail::distance_bound(v, lambda);
     const double global = detail::mignitude(d);
-    const double rho = local.useful ? std::max(16 * epsilon, 2 * local.previous) : 16 * epsilon;
-    if (lambda > 0 && !contains(v, 0.0) && (local.useful ? global < rho / 2 : global < epsilon)) {
+    const bool retry = !local.useful && global < local.retry_below;
+    const double rho = local.useful ? std::max(16 * epsilon, 2 * local.previous)
+                                    : std::max(16 * epsilon, retry ? 16 * global : 0.0);
+    if (lambda > 0 && !contains(v, 0.0) &&
+        (local.useful ? global < rho / 2 : global < epsilon || retry)) {
         ++evals.gradient;
         const Interval near = detail::local_distance_bound(tape, p, v, rho, regions, &within);
         const double m = detail::usable(near) ? detail::mignitude(near) : 0.0;
         if (m > global) d = near;
-        if (local.useful && !(m >= 2 * global)) local.useful = false;
+        const bool beats = m >= 2 * global;
+        if (local.useful && !beats) local.useful = false;
+        if (!local.useful && beats && global >= epsilon) local.useful = true;  // λ loose here
+        if (!local.useful) local.retry_below = global / 16;
     }
     // ρ next: twice this bound, but at least half this ρ (where the local λ grows fast with the
     // box, as under exponential blends, a bound far below ρ would restart the doubling low).

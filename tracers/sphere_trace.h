@@ -70,6 +70,8 @@ namespace detail {
 struct LocalBounds {
     double previous = 0;
     bool useful = true;
+    /// While not useful: a local bound is tried again once the global bound falls below this.
+    double retry_below = 0;
 };
 
 /// sphere_trace continuing from `local` and leaving it as it ends: a caller tracing consecutive
