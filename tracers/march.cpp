@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "expr/derived.h"
 #include "expr/eval.h"
+#include "interval/batch.h"
 #include "tracers/region_tapes.h"
 
 namespace certray::tracers {
@@ -176,18 +178,33 @@ RayResult degenerate(const expr::Tape& tape, const Ray& ray) {
 namespace {
 
 /// The march over f evaluated by `tape_at(p)` (the tape to use at the point p).
-template <class TapeAt>
-RayResult march_with(const TapeAt& tape_at, const expr::Tape& tape, const Ray& ray,
+/// Samples evaluated together: one batch walk (expr/eval.h, detail::run_batch) over half a Batch
+/// costs a few scalar evaluations on a short tape (tanglecube: 21 instructions).
+constexpr int kChunk = kBatch / 2;
+
+/// The march over f, evaluating at a box (the hull of the points) the tape `tape_for(box)` gives.
+/// The samples t_i are evaluated kChunk at a time, lane by lane bit for bit the double
+/// evaluation (interval/batch.h), and consumed one by one exactly as a sample-by-sample march
+/// would: evaluations are counted as consumed, so the answers, the budget and the counts are
+/// those of the scalar loop (the lanes past the first sign change are work not counted).
+template <class TapeFor>
+RayResult march_with(const TapeFor& tape_for, const expr::Tape& tape, const Ray& ray,
                      const TraceOptions& options) {
     thread_local expr::Evaluator<double> eval;
+    thread_local std::vector<Batch> regs;
+    thread_local std::array<Batch, 3> lanes;
     RayResult r;
     const double dn = detail::norm_up(ray.d);
     if (dn == 0 || ray.tmin == ray.tmax) return detail::degenerate(tape, ray);
+    auto point = [&](double t) {
+        return std::array<double, 3>{ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1],
+                                     ray.o[2] + t * ray.d[2]};
+    };
     auto g = [&](double t) {
         ++r.evals.value;
-        const std::array<double, 3> p{ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1],
-                                      ray.o[2] + t * ray.d[2]};
-        return eval(tape_at(p), p);
+        const std::array<double, 3> p = point(t);
+        return eval(
+            tape_for(std::array<Interval, 3>{Interval(p[0]), Interval(p[1]), Interval(p[2])}), p);
     };
     auto unknown = [&](double lo) {
         r.status = Status::Unknown;
@@ -198,8 +215,46 @@ RayResult march_with(const TapeAt& tape_at, const expr::Tape& tape, const Ray& r
     const double h = options.step / dn;  // the step in t
     const double eps_t = options.epsilon / dn;
     if (!(h > 0)) return unknown(ray.tmin);
+    // t_i from the start (no drift from repeated additions); t_0 = tmin.
+    auto t_at = [&](std::uint64_t i) {
+        return std::min(ray.tmin + static_cast<double>(i) * h, ray.tmax);
+    };
+    // g(t_i) for i in [first, first + kChunk), computed when first needed.
+    double values[kChunk];
+    std::uint64_t first = 0;
+    bool filled = false;
+    auto sample = [&](std::uint64_t i) {
+        ++r.evals.value;
+        if (!filled || i >= first + kChunk) {
+            first = i;
+            filled = true;
+            std::array<double, 3> lo, hi;
+            lo.fill(kInf);
+            hi.fill(-kInf);
+            for (int j = 0; j < kChunk; ++j) {
+                const std::array<double, 3> p = point(t_at(i + j));
+                for (int k = 0; k < 3; ++k) {
+                    lanes[k].v[j] = p[k];
+                    lo[k] = std::min(lo[k], p[k]);
+                    hi[k] = std::max(hi[k], p[k]);
+                }
+            }
+            std::array<Interval, 3> hull;
+            for (int k = 0; k < 3; ++k) {
+                // Not finite (or NaN): the full tape.
+                hull[k] = lo[k] <= hi[k] ? Interval(lo[k], hi[k]) : Interval(-kInf, kInf);
+            }
+            const expr::Tape& tp = tape_for(hull);
+            if (regs.size() < tp.registers()) regs.resize(tp.registers());
+            expr::detail::run_batch(tp.instrs().data(), tp.instrs().data() + tp.size(),
+                                    lanes.data(), regs.data(), kChunk);
+            const Batch& out = regs[tp.output()];
+            for (int j = 0; j < kChunk; ++j) values[j] = out.v[j];
+        }
+        return values[i - first];
+    };
     double t0 = ray.tmin;
-    double g0 = g(t0);
+    double g0 = sample(0);
     std::uint64_t i = 0;
     const Deadline deadline(options.seconds);
     while (true) {
@@ -212,9 +267,8 @@ RayResult march_with(const TapeAt& tape_at, const expr::Tape& tape, const Ray& r
         if (t0 >= ray.tmax) break;
         if (r.evals.total() >= options.budget || deadline.passed_at(i)) return unknown(t0);
         ++i;
-        // t_i from the start (no drift from repeated additions).
-        const double t1 = std::min(ray.tmin + static_cast<double>(i) * h, ray.tmax);
-        const double g1 = g(t1);
+        const double t1 = t_at(i);
+        const double g1 = sample(i);
         if (std::isnan(g1)) return unknown(t0);
         if (g1 != 0 && (g0 < 0) != (g1 < 0)) {
             // Bisect [t0, t1] until narrower than epsilon (or the budget ends: report the bracket).
@@ -251,13 +305,13 @@ RayResult march_with(const TapeAt& tape_at, const expr::Tape& tape, const Ray& r
 }  // namespace
 
 RayResult march(const expr::Tape& tape, const Ray& ray, const TraceOptions& options) {
-    return march_with([&tape](const std::array<double, 3>&) -> const expr::Tape& { return tape; },
+    return march_with([&tape](const std::array<Interval, 3>&) -> const expr::Tape& { return tape; },
                       tape, ray, options);
 }
 
 RayResult march(const RegionTapes& regions, const Ray& ray, const TraceOptions& options) {
     return march_with(
-        [&regions](const std::array<double, 3>& p) -> const expr::Tape& { return regions.at(p); },
+        [&regions](const std::array<Interval, 3>& b) -> const expr::Tape& { return regions.at(b); },
         regions.tape(), ray, options);
 }
 
