@@ -36,6 +36,13 @@ struct TraceOptions {
     /// Most wall-clock seconds per ray (0: no limit); then the answer is Unknown. A tracer that
     /// crawls on a model without a usable Lipschitz bound ends in bounded time.
     double seconds = 1.0;
+    /// Sphere tracing stops Unknown at t (no root before it) where its bound falls below
+    /// epsilon while the first-order estimate puts the surface farther than 4·epsilon: the bound
+    /// is loose there, and stepping on would crawl (Lipschitz-Pruning's molecule: λ ≈ 10¹⁷⁶,
+    /// local bounds as loose near its smooth unions: 720–900 evaluations a pixel). For callers
+    /// that go on by segment tracing from there (the registry's sphere and enhanced); off, the
+    /// tracer steps on (it stops only for a usable estimate or the budget).
+    bool hand_over_crawls = false;
 };
 
 /// The moment a ray's time budget (TraceOptions::seconds) runs out.

@@ -118,7 +118,8 @@ RayResult segments_after(const expr::Tape& tape, const Ray& ray, const RayResult
 /// Sphere tracing with a proven global λ: over the bounds (computed once; rays clipped to them),
 /// or else over each ray's own segment box (one gradient evaluation per ray, counted).
 RayFunction make_lipschitz_tracer(const expr::Tape& tape, const MethodOptions& o, Tracer trace) {
-    const TraceOptions topt = trace_options(o);
+    TraceOptions topt = trace_options(o);
+    topt.hand_over_crawls = true;  // segments_after goes on where sphere tracing crawls
     const double global =
         o.bounds ? global_lipschitz(tape, *o.bounds) : std::numeric_limits<double>::quiet_NaN();
     auto regions = region_tapes(tape, o);

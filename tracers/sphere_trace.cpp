@@ -124,10 +124,14 @@ RayResult trace_distance(const DistanceAt& distance, const EstimateAt& estimate,
             }
         }
         // No root on [tmin, t); |g(t)|/λ is a free radius around t.
-        if (m < opt.epsilon && (!estimate || estimate(t, r.evals) <= 4 * opt.epsilon)) {
-            r.status = Status::Hit;
-            r.t_lo = r.t_hi = r.t = t;
-            return r;
+        if (m < opt.epsilon) {
+            if (!estimate || estimate(t, r.evals) <= 4 * opt.epsilon) {
+                r.status = Status::Hit;
+                r.t_lo = r.t_hi = r.t = t;
+                return r;
+            }
+            // The bound is loose here (the surface is farther than 4·epsilon by the estimate).
+            if (opt.hand_over_crawls) return unknown(t);
         }
         if (t >= ray.tmax) break;  // g(tmax) ≠ 0 and [tmin, tmax) is free
         const double plain = detail::add_down(t, rad);
