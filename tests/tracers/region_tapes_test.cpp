@@ -14,6 +14,7 @@
 
 #include "expr/eval.h"
 #include "expr/parser.h"
+#include "expr/prune.h"
 #include "expr/tape.h"
 #include "tracers/methods.h"
 
@@ -110,6 +111,25 @@ TEST(RegionTapes, PolynomialKeepsOneCell) {
     const Tape tape(expr::parse_expr("x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8"));
     const RegionTapes regions(tape, kBounds);
     EXPECT_EQ(regions.stats().cells, 1u);
+}
+
+TEST(RegionTapes, SmoothUnionKernelFoldedToZeroLeavesTheNearSphereAlone) {
+    // A smooth union (Lipschitz-Pruning's blend, expr/csg_shapes.cpp) of two spheres 5 apart:
+    // min(a, b) − max(k − |a − b|, 0)²/(4k). Near the first one |a − b| > k, so the kernel is 0
+    // and min(a, b) = a there: pruning leaves exactly a's instructions (the `− 0` dropped too).
+    const std::string a = "sqrt(x^2 + y^2 + z^2) - 0.5";
+    const std::string b = "sqrt((x - 5)^2 + y^2 + z^2) - 0.5";
+    const Tape blend(expr::parse_expr("a = " + a + "\nb = " + b +
+                                      "\nmin(a, b) - square(max(0.2 - abs(a - b), 0)) / 0.8"));
+    const Tape alone(expr::parse_expr(a));
+    const Box near{Interval(-0.1, 0.1), Interval(-0.1, 0.1), Interval(-0.1, 0.1)};
+    const expr::PruneResult p = expr::prune(blend, near);
+    EXPECT_EQ(p.after, alone.size());
+    expr::Evaluator<double> e1, e2;
+    for (double x : {-0.1, -0.03, 0.0, 0.07, 0.1}) {
+        const std::array<double, 3> q{x, 0.05, -0.02};
+        EXPECT_TRUE(same_bits(e1(blend, q), e2(p.tape, q))) << x;
+    }
 }
 
 /// A ray along +x at height y from x = x0 (‖d‖ = 1, so t is a distance).
