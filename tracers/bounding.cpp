@@ -255,26 +255,32 @@ Interval unknown_distance() {
 }  // namespace
 
 Interval BoundedScene::leaf_distance(const Leaf& l, const Box& p, double db, double rho,
-                                     std::uint64_t& leaf_evals) const {
+                                     std::uint64_t& leaf_evals, LocalTries* tries) const {
     thread_local expr::Evaluator<Interval> eval;
     const Interval v = eval(l.regions ? l.regions->at(p) : l.tape, p);
     ++leaf_evals;
     if (!detail::usable(v)) return unknown_distance();
     Interval d =
         l.lambda < kInf ? floor_at(detail::distance_bound(v, l.lambda), db) : unknown_distance();
-    if (rho > 0 && (!detail::usable(d) || detail::mignitude(d) < rho / 2) && !contains(v, 0.0)) {
+    const bool refine = !tries || tries->refine || !detail::usable(d);
+    if (rho > 0 && refine && (!detail::usable(d) || detail::mignitude(d) < rho / 2) &&
+        !contains(v, 0.0)) {
         ++leaf_evals;
         const Interval near =
             detail::local_distance_bound(l.tape, p, v, rho, l.regions.get(), &bounds_);
-        if (detail::usable(near) &&
-            (!detail::usable(d) || detail::mignitude(near) > detail::mignitude(d))) {
-            d = near;
+        const double from_box = detail::usable(d) ? detail::mignitude(d) : 0.0;
+        const bool usable = detail::usable(near);
+        if (usable && (!detail::usable(d) || detail::mignitude(near) > from_box)) d = near;
+        if (tries) {
+            ++tries->tried;
+            tries->won += usable && detail::mignitude(near) >= 2 * from_box;
         }
     }
     return d;
 }
 
-Interval BoundedScene::distance(const Box& p, std::uint64_t& leaf_evals, double rho) const {
+Interval BoundedScene::distance(const Box& p, std::uint64_t& leaf_evals, double rho,
+                                LocalTries* tries) const {
     // Recursion depth: the CSG nesting (≤ max_nesting) times the BVH depth (log₂ of a cluster).
     // `best` is an upper bound of the union being computed by the callers (+inf elsewhere): a
     // node outside its box (db > 0) has a bound ≥ db, so with db ≥ best it cannot lower the
@@ -285,7 +291,7 @@ Interval BoundedScene::distance(const Box& p, std::uint64_t& leaf_evals, double 
         if (db > margin_ || (db > 0 && db >= best)) return Interval(db);
         switch (n.kind) {
             case Kind::Leaf:
-                return leaf_distance(leaves_[n.a], p, db, rho, leaf_evals);
+                return leaf_distance(leaves_[n.a], p, db, rho, leaf_evals, tries);
             case Kind::Neg:
                 return -self(self, n.a, kInf);
             case Kind::Min: {
@@ -457,10 +463,26 @@ RayResult bounded_sphere_trace(const BoundedScene& scene, const Ray& r, const Tr
     // ρ of the first point: the margin (a local bound is tried wherever the box's λ gives less
     // than half of it); then twice the previous bound.
     double previous = scene.margin() / 2;
+    // As sphere tracing does (sphere_trace.cpp): once the local bounds of a step have not beaten
+    // the boxes' λ by 2×, they are tried again only where the bound has shrunk 16× since (ρ = 16 ×
+    // the bound) or fallen below epsilon; where they win again, refining resumes.
+    BoundedScene::LocalTries tries;
+    double retry_below = 0;
     auto distance = [&](double t, EvalCounts&) {
         const Box p = detail::point_box(ray, t);
-        const double rho = std::max(16 * opt.epsilon, 2 * previous);
-        const Interval d = scene.distance(p, leaf_evals, rho);
+        const bool retry = !tries.refine && (previous < retry_below || previous < opt.epsilon);
+        const double rho = tries.refine || !retry ? std::max(16 * opt.epsilon, 2 * previous)
+                                                  : std::max(16 * opt.epsilon, 16 * previous);
+        const bool refine = tries.refine;
+        tries.refine = refine || retry;
+        tries.tried = tries.won = 0;
+        const Interval d = scene.distance(p, leaf_evals, rho, &tries);
+        if (tries.tried > 0) {
+            tries.refine = tries.won > 0;
+            if (!tries.refine) retry_below = previous / 16;
+        } else {
+            tries.refine = refine;
+        }
         if (d.defined && !d.is_empty()) previous = detail::mignitude(d);
         return d;
     };

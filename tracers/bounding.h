@@ -57,6 +57,15 @@ class BoundedScene {
     BoundedScene(const BoundedScene&) = delete;
     BoundedScene& operator=(const BoundedScene&) = delete;
 
+    /// How distance() used local bounds: with `refine` false a leaf tries one only where its
+    /// box's λ gives no bound at all; `tried` counts the local bounds computed and `won` those
+    /// at least twice the box's bound (bounded_sphere_trace stops refining on a ray where they
+    /// do not win, as sphere tracing does).
+    struct LocalTries {
+        bool refine = true;
+        std::uint64_t tried = 0, won = 0;
+    };
+
     /// An enclosure of the signed distance bound at every point of the box p (a tiny box around
     /// one point); `leaf_evals` counts the leaf tapes evaluated (values and local bounds).
     /// With rho > 0, a leaf whose bound from its box's λ is below rho/2 also tries the local λ
@@ -65,7 +74,8 @@ class BoundedScene {
     /// box; a farther one is farther than rho), and the larger of the two is kept — so a loose λ
     /// neither stalls the tracer nor stops it far from the surface. Undefined (decoration false)
     /// where a leaf is undefined or has no finite λ. Thread-safe.
-    Interval distance(const Box& p, std::uint64_t& leaf_evals, double rho = 0) const;
+    Interval distance(const Box& p, std::uint64_t& leaf_evals, double rho = 0,
+                      LocalTries* tries = nullptr) const;
 
     /// f restricted to one ray's segment [ray.tmin, ray.tmax] (inside the bounds): a leaf whose
     /// box the segment provably misses is positive all along it, so it is dropped from a union
@@ -117,7 +127,7 @@ class BoundedScene {
     std::uint32_t add(Node n);
     double box_distance(const Node& n, const Box& p) const;
     Interval leaf_distance(const Leaf& l, const Box& p, double db, double rho,
-                           std::uint64_t& leaf_evals) const;
+                           std::uint64_t& leaf_evals, LocalTries* tries) const;
 
     Box bounds_;
     expr::Tape tape_;
