@@ -13,12 +13,14 @@
 // the tracer farther away, never beyond the first root); Miss when a step passes tmax (proven: no
 // root on [tmin, tmax] given λ); Unknown when the budget is spent (notably for tmax = +inf with
 // no surface ahead: the tracer never proves a miss to infinity), when g is undefined at a point,
-// or when λ is NaN, negative or infinite. Each step costs one interval evaluation (evals.interval),
-// and one interval-gradient evaluation (evals.gradient) where a local bound is tried.
-// Enhanced: steps of (1 + kappa)·|g|/λ; when the unbounding spheres of the old and the new point
-// do not overlap (r_old + r_new < step length) it goes back and takes the plain step, and stays
-// plain for the rest of the ray (Keinert's rule), so the guarantee is kept.
-// Reference: docs/theory/sphere_tracing.md.
+// or when λ is NaN, negative or infinite; with options.hand_over_crawls, also where the bound falls
+// below epsilon while the first-order estimate puts the surface farther than 4·epsilon (a loose
+// bound: the caller goes on by segment tracing from there). Each step costs one interval evaluation
+// (evals.interval), and one interval-gradient evaluation (evals.gradient) where a local bound is
+// tried. Enhanced: steps of (1 + kappa)·|g|/λ; when the unbounding spheres of the old and the new
+// point do not overlap (r_old + r_new < step length) it goes back and takes the plain step, and
+// stays plain for the rest of the ray (Keinert's rule), so the guarantee is kept. Reference:
+// docs/theory/sphere_tracing.md.
 #pragma once
 
 #include <array>
