@@ -20,16 +20,18 @@ namespace certray::expr {
 namespace {
 
 /// Per op: its arity (bits 0–1), whether it is min (bit 2) or max (bit 3), whether it may be
-/// folded to a constant (bit 4: every op but Const), and whether it is and/or (bit 5: a choice
-/// by the first operand's zeroness).
-constexpr unsigned kMin = 4, kMax = 8, kFoldable = 16, kSelect = 32;
+/// folded to a constant (bit 4: every op but Const), whether it is and/or (bit 5: a choice
+/// by the first operand's zeroness), and whether it is add or sub (bit 6: x + 0, 0 + x and x − 0
+/// are x).
+constexpr unsigned kMin = 4, kMax = 8, kFoldable = 16, kSelect = 32, kAddSub = 64;
 constexpr std::array<std::uint8_t, kOpCount> kInfo = [] {
     std::array<std::uint8_t, kOpCount> t{};
     for (int k = 0; k < kOpCount; ++k) {
         const auto op = static_cast<Op>(k);
         t[k] = static_cast<std::uint8_t>(
             arity(op) | (op == Op::Min ? kMin : 0) | (op == Op::Max ? kMax : 0) |
-            (op == Op::And || op == Op::Or ? kSelect : 0) | (op != Op::Const ? kFoldable : 0));
+            (op == Op::And || op == Op::Or ? kSelect : 0) | (op != Op::Const ? kFoldable : 0) |
+            (op == Op::Add || op == Op::Sub ? kAddSub : 0));
     }
     return t;
 }();
@@ -51,9 +53,20 @@ template <std::size_t Stride>
     if (point != 0) [[unlikely]] {
         if (out.defined && std::isfinite(out.lower())) return kConstant;
     }
-    if ((info & (kMin | kMax | kSelect)) == 0) return kBoth;
+    if ((info & (kMin | kMax | kSelect | kAddSub)) == 0) return kBoth;
     const UpInterval& a = v[in.a * step];
     const UpInterval& b = v[in.b * step];
+    if (info & kAddSub) {
+        // An operand that is 0 on the whole box (a constant, or a smooth blend's kernel folded
+        // to one): x + 0 = 0 + x = x − 0 = x, as reals and as intervals; in double up to the
+        // sign of a zero result (−0 + 0 = +0).
+        auto zero = [](const UpInterval& x) {
+            return x.defined && x.lower() == 0 && x.upper() == 0;
+        };
+        if (zero(b)) return kA;
+        if (in.op == Op::Add && zero(a)) return kB;
+        return kBoth;
+    }
     if (info & kSelect) [[unlikely]] {
         // and(a, b) = a where a = 0, b where a ≠ 0; or(a, b) the other way round. Dropping a
         // (choosing b) needs a defined; choosing a never reads b.

@@ -5,7 +5,10 @@
 // A min/max branch is dropped only where interval evaluation proves it inactive on the whole box
 // *and* the dropped branch is defined there (dropping an undefined branch would make f defined
 // where it is not). A subexpression whose enclosure over the box is one point, defined on the
-// whole box, becomes that constant. When PruneWorkspace::absolute_values is set, a max(x, −x) that
+// whole box, becomes that constant; an add or sub with an operand that is 0 (and defined) on the
+// whole box becomes its other operand (x + 0 = 0 + x = x − 0 = x: the same real function and
+// enclosure; in double only a zero result's sign may differ, −0 + 0 being +0). When
+// PruneWorkspace::absolute_values is set, a max(x, −x) that
 // pruning leaves (the two operands reached
 // through different chains of choices) becomes |x|: the same real function, whose enclosure is
 // ≥ 0 where the interval max of x and −x is not (a model that touches 0 along a plane, as

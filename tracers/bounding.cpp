@@ -20,6 +20,10 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 using Box = BoundedScene::Box;
 
+/// Leaves longer than this many instructions get region-pruned tapes (a short leaf, a sphere or
+/// a box, gains nothing worth a lookup).
+constexpr std::size_t kRegionTapesAbove = 256;
+
 /// The tape of the subexpression `root` of g alone (its nodes copied into a fresh graph).
 expr::Tape sub_tape(const expr::Graph& g, expr::NodeId root) {
     expr::Graph out;
@@ -106,6 +110,15 @@ BoundedScene::BoundedScene(const expr::Tape& tape, const Box& bounds,
     const expr::Graph graph = graph_of(tape);
     if (!graph.output().valid()) throw std::invalid_argument("bounding volumes: empty tape");
     root_ = build(graph, graph.output(), 0);
+    // A long leaf (a sum of many blobs, a primitive under a long expression) is evaluated on the
+    // tape of the query box's region: the same function there, often far shorter. Built once
+    // the leaves are in place (a RegionTapes refers to its leaf's tape).
+    for (Leaf& l : leaves_) {
+        if (l.tape.size() > kRegionTapesAbove) {
+            l.regions = std::make_unique<RegionTapes>(l.tape, bounds_);
+        }
+    }
+    if (tape_.size() > kRegionTapesAbove) regions_ = std::make_unique<RegionTapes>(tape_, bounds_);
     build_seconds_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -191,7 +204,7 @@ std::uint32_t BoundedScene::balance(std::vector<std::uint32_t>& parts, std::size
 }
 
 std::uint32_t BoundedScene::leaf(const expr::Graph& g, expr::NodeId id) {
-    Leaf l{sub_tape(g, id), kInf};
+    Leaf l{sub_tape(g, id), kInf, nullptr};
     Node n{Kind::Leaf, {}, {}, static_cast<std::uint32_t>(leaves_.size()), 0};
     solid_box(l.tape, bounds_, options_, n.lo, n.hi);
     if (!n.empty()) {
@@ -242,25 +255,32 @@ Interval unknown_distance() {
 }  // namespace
 
 Interval BoundedScene::leaf_distance(const Leaf& l, const Box& p, double db, double rho,
-                                     std::uint64_t& leaf_evals) const {
+                                     std::uint64_t& leaf_evals, LocalTries* tries) const {
     thread_local expr::Evaluator<Interval> eval;
-    const Interval v = eval(l.tape, p);
+    const Interval v = eval(l.regions ? l.regions->at(p) : l.tape, p);
     ++leaf_evals;
     if (!detail::usable(v)) return unknown_distance();
     Interval d =
         l.lambda < kInf ? floor_at(detail::distance_bound(v, l.lambda), db) : unknown_distance();
-    if (rho > 0 && (!detail::usable(d) || detail::mignitude(d) < rho / 2) && !contains(v, 0.0)) {
+    const bool refine = !tries || tries->refine || !detail::usable(d);
+    if (rho > 0 && refine && (!detail::usable(d) || detail::mignitude(d) < rho / 2) &&
+        !contains(v, 0.0)) {
         ++leaf_evals;
-        const Interval near = detail::local_distance_bound(l.tape, p, v, rho);
-        if (detail::usable(near) &&
-            (!detail::usable(d) || detail::mignitude(near) > detail::mignitude(d))) {
-            d = near;
+        const Interval near =
+            detail::local_distance_bound(l.tape, p, v, rho, l.regions.get(), &bounds_);
+        const double from_box = detail::usable(d) ? detail::mignitude(d) : 0.0;
+        const bool usable = detail::usable(near);
+        if (usable && (!detail::usable(d) || detail::mignitude(near) > from_box)) d = near;
+        if (tries) {
+            ++tries->tried;
+            tries->won += usable && detail::mignitude(near) >= 2 * from_box;
         }
     }
     return d;
 }
 
-Interval BoundedScene::distance(const Box& p, std::uint64_t& leaf_evals, double rho) const {
+Interval BoundedScene::distance(const Box& p, std::uint64_t& leaf_evals, double rho,
+                                LocalTries* tries) const {
     // Recursion depth: the CSG nesting (≤ max_nesting) times the BVH depth (log₂ of a cluster).
     // `best` is an upper bound of the union being computed by the callers (+inf elsewhere): a
     // node outside its box (db > 0) has a bound ≥ db, so with db ≥ best it cannot lower the
@@ -271,7 +291,7 @@ Interval BoundedScene::distance(const Box& p, std::uint64_t& leaf_evals, double 
         if (db > margin_ || (db > 0 && db >= best)) return Interval(db);
         switch (n.kind) {
             case Kind::Leaf:
-                return leaf_distance(leaves_[n.a], p, db, rho, leaf_evals);
+                return leaf_distance(leaves_[n.a], p, db, rho, leaf_evals, tries);
             case Kind::Neg:
                 return -self(self, n.a, kInf);
             case Kind::Min: {
@@ -443,17 +463,39 @@ RayResult bounded_sphere_trace(const BoundedScene& scene, const Ray& r, const Tr
     // ρ of the first point: the margin (a local bound is tried wherever the box's λ gives less
     // than half of it); then twice the previous bound.
     double previous = scene.margin() / 2;
+    // As sphere tracing does (sphere_trace.cpp): once the local bounds of a step have not beaten
+    // the boxes' λ by 2×, they are tried again only where the bound has shrunk 16× since (ρ = 16 ×
+    // the bound) or fallen below epsilon; where they win again, refining resumes.
+    BoundedScene::LocalTries tries;
+    double retry_below = 0;
     auto distance = [&](double t, EvalCounts&) {
         const Box p = detail::point_box(ray, t);
-        const double rho = std::max(16 * opt.epsilon, 2 * previous);
-        const Interval d = scene.distance(p, leaf_evals, rho);
+        const bool retry = !tries.refine && (previous < retry_below || previous < opt.epsilon);
+        const double rho = tries.refine || !retry ? std::max(16 * opt.epsilon, 2 * previous)
+                                                  : std::max(16 * opt.epsilon, 16 * previous);
+        const bool refine = tries.refine;
+        tries.refine = refine || retry;
+        tries.tried = tries.won = 0;
+        const Interval d = scene.distance(p, leaf_evals, rho, &tries);
+        if (tries.tried > 0) {
+            tries.refine = tries.won > 0;
+            if (!tries.refine) retry_below = previous / 16;
+        } else {
+            tries.refine = refine;
+        }
         if (d.defined && !d.is_empty()) previous = detail::mignitude(d);
         return d;
     };
     // The hit's sanity check on the tape restricted to the leaves this segment meets (built once,
     // on the first candidate hit): near its zeros it is f (same zeros and sign along the segment).
+    // A long f (region_tapes()) is checked on the tape of the point's region instead: f itself
+    // there, with no tape built per ray (particles: restrict_to copied 16,009 instructions).
     std::optional<BoundedScene::Restricted> restricted;
     auto estimate = [&](double t, EvalCounts& evals) {
+        if (const RegionTapes* regions = scene.region_tapes()) {
+            ++evals.gradient;
+            return detail::first_order_distance(regions->at(detail::point_box(ray, t)), ray, t);
+        }
         if (!restricted) restricted = scene.restrict_to(ray);
         if (restricted->sign != 0) return kInf;  // f has one sign on the whole segment
         ++evals.gradient;

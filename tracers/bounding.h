@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "expr/graph.h"
@@ -28,6 +29,7 @@
 #include "interval/interval.h"
 #include "solvers/ray.h"
 #include "tracers/march.h"
+#include "tracers/region_tapes.h"
 
 namespace certray::tracers {
 
@@ -51,16 +53,29 @@ class BoundedScene {
     /// Builds the volumes of the tape's function inside `bounds` (finite, non-empty; else
     /// std::invalid_argument).
     BoundedScene(const expr::Tape& tape, const Box& bounds, const BoundingOptions& options = {});
+    /// Not copied or moved: the region tapes refer to the scene's own tapes.
+    BoundedScene(const BoundedScene&) = delete;
+    BoundedScene& operator=(const BoundedScene&) = delete;
+
+    /// How distance() used local bounds: with `refine` false a leaf tries one only where its
+    /// box's λ gives no bound at all; `tried` counts the local bounds computed and `won` those
+    /// at least twice the box's bound (bounded_sphere_trace stops refining on a ray where they
+    /// do not win, as sphere tracing does).
+    struct LocalTries {
+        bool refine = true;
+        std::uint64_t tried = 0, won = 0;
+    };
 
     /// An enclosure of the signed distance bound at every point of the box p (a tiny box around
     /// one point); `leaf_evals` counts the leaf tapes evaluated (values and local bounds).
     /// With rho > 0, a leaf whose bound from its box's λ is below rho/2 also tries the local λ
-    /// over p ⊕ rho: min(|f|/λ_local, rho) is a distance bound too (the nearest surface point
-    /// within rho is reached inside that box; a farther one is farther than rho), and the larger
-    /// of the two is kept — so a loose λ neither stalls the tracer nor stops it far from the
-    /// surface. Undefined (decoration false) where a leaf is undefined or has no finite λ.
-    /// Thread-safe.
-    Interval distance(const Box& p, std::uint64_t& leaf_evals, double rho = 0) const;
+    /// over p ⊕ rho (cut to the bounds: only surface points inside them count): min(|f|/λ_local,
+    /// rho) is a distance bound too (the nearest surface point within rho is reached inside that
+    /// box; a farther one is farther than rho), and the larger of the two is kept — so a loose λ
+    /// neither stalls the tracer nor stops it far from the surface. Undefined (decoration false)
+    /// where a leaf is undefined or has no finite λ. Thread-safe.
+    Interval distance(const Box& p, std::uint64_t& leaf_evals, double rho = 0,
+                      LocalTries* tries = nullptr) const;
 
     /// f restricted to one ray's segment [ray.tmin, ray.tmax] (inside the bounds): a leaf whose
     /// box the segment provably misses is positive all along it, so it is dropped from a union
@@ -82,6 +97,8 @@ class BoundedScene {
     /// Number of leaves and of tree nodes.
     std::size_t leaves() const { return leaves_.size(); }
     std::size_t nodes() const { return nodes_.size(); }
+    /// The region-pruned tapes of f (tracers/region_tapes.h) when f is long, else null.
+    const RegionTapes* region_tapes() const { return regions_.get(); }
     /// Nodes closer than this to the query point are evaluated (scene units).
     double margin() const { return margin_; }
     /// Wall time of the build in seconds.
@@ -98,6 +115,8 @@ class BoundedScene {
     struct Leaf {
         expr::Tape tape;
         double lambda = 0;
+        /// The leaf's region-pruned tapes when its tape is long (kRegionTapesAbove), else null.
+        std::unique_ptr<RegionTapes> regions;
     };
 
     std::uint32_t build(const expr::Graph& g, expr::NodeId id, int nesting);
@@ -108,7 +127,7 @@ class BoundedScene {
     std::uint32_t add(Node n);
     double box_distance(const Node& n, const Box& p) const;
     Interval leaf_distance(const Leaf& l, const Box& p, double db, double rho,
-                           std::uint64_t& leaf_evals) const;
+                           std::uint64_t& leaf_evals, LocalTries* tries) const;
 
     Box bounds_;
     expr::Tape tape_;
@@ -117,6 +136,7 @@ class BoundedScene {
     std::vector<Node> nodes_;
     std::vector<Leaf> leaves_;
     std::uint32_t root_ = 0;
+    std::unique_ptr<RegionTapes> regions_;
     double build_seconds_ = 0;
 };
 

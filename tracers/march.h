@@ -21,6 +21,8 @@
 
 namespace certray::tracers {
 
+class RegionTapes;  // tracers/region_tapes.h
+
 /// The knobs of the classical tracers (a subset of MethodOptions).
 struct TraceOptions {
     /// Convergence distance (scene units): a tracer reports a hit when |f|/λ < epsilon.
@@ -34,6 +36,13 @@ struct TraceOptions {
     /// Most wall-clock seconds per ray (0: no limit); then the answer is Unknown. A tracer that
     /// crawls on a model without a usable Lipschitz bound ends in bounded time.
     double seconds = 1.0;
+    /// Sphere tracing stops Unknown at t (no root before it) where its bound falls below
+    /// epsilon while the first-order estimate puts the surface farther than 4·epsilon: the bound
+    /// is loose there, and stepping on would crawl (Lipschitz-Pruning's molecule: λ ≈ 10¹⁷⁶,
+    /// local bounds as loose near its smooth unions: 720–900 evaluations a pixel). For callers
+    /// that go on by segment tracing from there (the registry's sphere and enhanced); off, the
+    /// tracer steps on (it stops only for a usable estimate or the budget).
+    bool hand_over_crawls = false;
 };
 
 /// The moment a ray's time budget (TraceOptions::seconds) runs out.
@@ -46,6 +55,10 @@ class Deadline {
                            : std::chrono::steady_clock::time_point::max()) {}
     /// True once the time is up.
     bool passed() const { return std::chrono::steady_clock::now() >= end_; }
+    /// passed() at every 16th step of a loop (`step` its counter), false at the others: a clock
+    /// read costs as much as a step on a short tape (a third of march's time on the tanglecube),
+    /// and 15 steps more are microseconds.
+    bool passed_at(std::uint64_t step) const { return (step & 15) == 0 && passed(); }
     /// The seconds left, for the TraceOptions::seconds of a tracer run within this one's time:
     /// 0 (no limit) when this deadline has none, else at least 1 ns (a passed deadline still
     /// limits: the nested tracer stops at once).
@@ -62,6 +75,10 @@ class Deadline {
 
 /// Ray marching with a fixed step and bisection of the first sign change (see the file contract).
 RayResult march(const expr::Tape& tape, const Ray& ray, const TraceOptions& options);
+
+/// march() evaluating each sample with the tape of its region (RegionTapes::at: the same value
+/// of f, on a tape that is often much shorter): the same contract.
+RayResult march(const RegionTapes& regions, const Ray& ray, const TraceOptions& options);
 
 namespace detail {
 
@@ -86,15 +103,34 @@ Interval distance_bound(const Interval& v, double lambda);
 /// A distance bound from a *local* Lipschitz bound: λ_loc over the box p inflated by rho, and
 /// min(|v|/λ_loc, rho) with v's sign (v: f over p, certainly non-zero) — a surface point within rho
 /// is reached inside that box, a farther one is farther than rho. Not usable (empty) when λ_loc is
-/// not finite and positive. One interval-gradient evaluation of the tape.
+/// not finite and positive. One interval-gradient evaluation of the tape — of the tape of the
+/// box's region when `regions` is given (the same function there). With `within` (a convex box
+/// holding the exact point, e.g. the box of the ray's segment [o + tmin·d, o + tmax·d]), λ_loc is
+/// taken over the box cut to `within`: then the result bounds the distance to the surface only
+/// for the points of `within` (for a ray: along its segment, all a tracer steps over), since the
+/// straight path from the point to any of them stays in the cut box.
 Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval, 3>& p,
-                              const Interval& v, double rho);
+                              const Interval& v, double rho, const RegionTapes* regions = nullptr,
+                              const std::array<Interval, 3>* within = nullptr);
+
+/// The box of the ray's segment o + [tmin, tmax]·d, rounded outward (infinite where tmax is).
+std::array<Interval, 3> segment_box(const Ray& ray);
 
 /// An upper bound on ‖d‖₂ (rounded upward).
 double norm_up(const std::array<double, 3>& d);
 
+// The directed operations below run in round-to-nearest (the library's environment, which
+// make_method and the renderers set): the rounding error of the nearest result is computed
+// exactly (TwoSum, fma) and the result moved one double when it lies on the wrong side — no
+// rounding-mode switch (a switch pair cost a third of enhanced sphere tracing's time on the
+// tanglecube). Where the error is not exact (overflow, subnormal results) they fall back to
+// interval arithmetic.
+
 /// The largest double ≤ a / b for a ≥ 0, b > 0 (+inf when b is 0 and a > 0).
 double div_down(double a, double b);
+
+/// The largest double ≤ a · b.
+double mul_down(double a, double b);
 
 /// The largest double ≤ a + b.
 double add_down(double a, double b);

@@ -19,6 +19,7 @@
 #include "tracers/bounding.h"
 #include "tracers/march.h"
 #include "tracers/octree.h"
+#include "tracers/region_tapes.h"
 #include "tracers/segment_trace.h"
 #include "tracers/sphere_trace.h"
 
@@ -61,7 +62,7 @@ bool clip(const MethodOptions& o, Ray& ray) {
     return ray.tmin <= ray.tmax;
 }
 
-/// A tracer that needs no λ (march, segment), on each ray clipped to the bounds.
+/// A tracer that needs no λ (segment), on each ray clipped to the bounds.
 RayFunction make_clipped_tracer(const expr::Tape& tape, const MethodOptions& o,
                                 RayResult (*trace)(const expr::Tape&, const Ray&,
                                                    const TraceOptions&)) {
@@ -84,7 +85,19 @@ RayFunction make_certified(const expr::Tape& tape, const MethodOptions& o, bool 
     return [&tape, opt](const Ray& ray) { return solvers::certified_first_root(tape, ray, opt); };
 }
 
-using Tracer = RayResult (*)(const expr::Tape&, const Ray&, double, const TraceOptions&);
+using Tracer = RayResult (*)(const RegionTapes&, const Ray&, double, const TraceOptions&);
+
+/// The bounds the octree methods subdivide: the given ones, else [−2, 2]³ (the gallery's frame).
+std::array<Interval, 3> octree_bounds(const MethodOptions& o) {
+    if (o.bounds) return *o.bounds;
+    return {Interval(-2, 2), Interval(-2, 2), Interval(-2, 2)};
+}
+
+/// The region-pruned tapes of `tape` over the octree bounds (built once per method, shared by
+/// every ray; points outside the bounds use the full tape).
+std::shared_ptr<const RegionTapes> region_tapes(const expr::Tape& tape, const MethodOptions& o) {
+    return std::make_shared<const RegionTapes>(tape, octree_bounds(o));
+}
 
 /// `res`, an answer on `ray`, unless it is Unknown with evaluations and time left: then segment
 /// tracing on [res.t_lo, ray.tmax] (no root lies before res.t_lo), with the evaluations of both.
@@ -105,10 +118,12 @@ RayResult segments_after(const expr::Tape& tape, const Ray& ray, const RayResult
 /// Sphere tracing with a proven global λ: over the bounds (computed once; rays clipped to them),
 /// or else over each ray's own segment box (one gradient evaluation per ray, counted).
 RayFunction make_lipschitz_tracer(const expr::Tape& tape, const MethodOptions& o, Tracer trace) {
-    const TraceOptions topt = trace_options(o);
+    TraceOptions topt = trace_options(o);
+    topt.hand_over_crawls = true;  // segments_after goes on where sphere tracing crawls
     const double global =
         o.bounds ? global_lipschitz(tape, *o.bounds) : std::numeric_limits<double>::quiet_NaN();
-    return [&tape, o, topt, global, trace](const Ray& r) {
+    auto regions = region_tapes(tape, o);
+    return [&tape, o, topt, global, trace, regions](const Ray& r) {
         Ray ray = r;
         RayResult miss;
         miss.status = Status::Miss;
@@ -133,7 +148,7 @@ RayFunction make_lipschitz_tracer(const expr::Tape& tape, const MethodOptions& o
         RayResult res;
         res.status = Status::Unknown;
         res.t_lo = ray.tmin;
-        if (std::isfinite(lambda) && lambda > 0) res = trace(tape, ray, lambda, topt);
+        if (std::isfinite(lambda) && lambda > 0) res = trace(*regions, ray, lambda, topt);
         res.evals.gradient += extra;
         return segments_after(tape, ray, res, topt, deadline);
     };
@@ -160,12 +175,6 @@ RayFunction inside_and_out(const expr::Tape& tape, const std::array<Interval, 3>
                 return segment_trace(tape, seg, with_budget(left));
             });
     };
-}
-
-/// The bounds the octree methods subdivide: the given ones, else [−2, 2]³ (the gallery's frame).
-std::array<Interval, 3> octree_bounds(const MethodOptions& o) {
-    if (o.bounds) return *o.bounds;
-    return {Interval(-2, 2), Interval(-2, 2), Interval(-2, 2)};
 }
 
 ApproxOptions approx_options(const MethodOptions& o) {
@@ -207,7 +216,15 @@ const std::vector<Entry>& entries() {
           {"step", "epsilon", "budget", "bounds", "seconds"},
           {{"step", {0.1, 0.03, 0.01, 0.003}}}},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-             return make_clipped_tracer(tape, o, &march);
+             const TraceOptions topt = trace_options(o);
+             auto regions = region_tapes(tape, o);
+             return [o, topt, regions](const Ray& r) {
+                 Ray ray = r;
+                 RayResult miss;
+                 miss.status = Status::Miss;
+                 if (!clip(o, ray)) return miss;
+                 return march(*regions, ray, topt);
+             };
          }},
         {{"sphere",
           false,

@@ -11,6 +11,7 @@
 
 #include "expr/derived.h"
 #include "expr/eval.h"
+#include "tracers/region_tapes.h"
 
 namespace certray::tracers {
 
@@ -27,21 +28,31 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// once a local bound has not beaten the global one by 2× on a ray (λ is tight there), only where
 /// the global bound falls below epsilon — where the tracer would stop — so that a merely loose λ
 /// never stops the tracer far from any surface. Each local bound is one gradient evaluation.
-Interval tape_distance(const expr::Tape& tape, const Ray& ray, double lambda, double t,
+/// With `regions`, every evaluation runs on the tape of its box's region (the same function).
+/// The local boxes are cut to the ray's segment box `within` (the bound holds along the
+/// segment, where the tracer steps).
+Interval tape_distance(const expr::Tape& tape, const RegionTapes* regions, const Ray& ray,
+                       const std::array<Interval, 3>& within, double lambda, double t,
                        double epsilon, detail::LocalBounds& local, EvalCounts& evals) {
     const std::array<Interval, 3> p = detail::point_box(ray, t);
     thread_local expr::Evaluator<Interval> eval;
-    const Interval v = eval(tape, p);
+    const Interval v = eval(regions ? regions->at(p) : tape, p);
     if (!detail::usable(v)) return v;
     Interval d = detail::distance_bound(v, lambda);
     const double global = detail::mignitude(d);
-    const double rho = local.useful ? std::max(16 * epsilon, 2 * local.previous) : 16 * epsilon;
-    if (lambda > 0 && !contains(v, 0.0) && (local.useful ? global < rho / 2 : global < epsilon)) {
+    const bool retry = !local.useful && global < local.retry_below;
+    const double rho = local.useful ? std::max(16 * epsilon, 2 * local.previous)
+                                    : std::max(16 * epsilon, retry ? 16 * global : 0.0);
+    if (lambda > 0 && !contains(v, 0.0) &&
+        (local.useful ? global < rho / 2 : global < epsilon || retry)) {
         ++evals.gradient;
-        const Interval near = detail::local_distance_bound(tape, p, v, rho);
+        const Interval near = detail::local_distance_bound(tape, p, v, rho, regions, &within);
         const double m = detail::usable(near) ? detail::mignitude(near) : 0.0;
         if (m > global) d = near;
-        if (local.useful && !(m >= 2 * global)) local.useful = false;
+        const bool beats = m >= 2 * global;
+        if (local.useful && !beats) local.useful = false;
+        if (!local.useful && beats && global >= epsilon) local.useful = true;  // λ loose here
+        if (!local.useful) local.retry_below = global / 16;
     }
     // ρ next: twice this bound, but at least half this ρ (where the local λ grows fast with the
     // box, as under exponential blends, a bound far below ρ would restart the doubling low).
@@ -83,8 +94,9 @@ RayResult trace_distance(const DistanceAt& distance, const EstimateAt& estimate,
     bool positive_prev = true;  // the sign of g at t_prev
     bool pending = false;       // the step into t was over-relaxed and is not yet verified
     const Deadline deadline(opt.seconds);
+    std::uint64_t step = 0;
     while (true) {
-        if (r.evals.total() >= opt.budget || deadline.passed()) {
+        if (r.evals.total() >= opt.budget || deadline.passed_at(step++)) {
             return unknown(pending ? t_prev : t);
         }
         const Interval v = distance(t, r.evals);  // space units, sign of g
@@ -99,7 +111,7 @@ RayResult trace_distance(const DistanceAt& distance, const EstimateAt& estimate,
         const double rad = m == kInf ? kInf : detail::div_down(m, dn);
         if (pending) {
             pending = false;
-            const double gap = (Interval(t) - Interval(t_prev)).upper();
+            const double gap = detail::add_up(t, -t_prev);
             // The free radii are open balls (a root may sit at exactly |g|/λ), so they must
             // overlap strictly — and g must keep its sign, or a root lies between.
             const bool positive = v.lower() > 0;
@@ -112,17 +124,21 @@ RayResult trace_distance(const DistanceAt& distance, const EstimateAt& estimate,
             }
         }
         // No root on [tmin, t); |g(t)|/λ is a free radius around t.
-        if (m < opt.epsilon && (!estimate || estimate(t, r.evals) <= 4 * opt.epsilon)) {
-            r.status = Status::Hit;
-            r.t_lo = r.t_hi = r.t = t;
-            return r;
+        if (m < opt.epsilon) {
+            if (!estimate || estimate(t, r.evals) <= 4 * opt.epsilon) {
+                r.status = Status::Hit;
+                r.t_lo = r.t_hi = r.t = t;
+                return r;
+            }
+            // The bound is loose here (the surface is farther than 4·epsilon by the estimate).
+            if (opt.hand_over_crawls) return unknown(t);
         }
         if (t >= ray.tmax) break;  // g(tmax) ≠ 0 and [tmin, tmax) is free
         const double plain = detail::add_down(t, rad);
         if (plain > ray.tmax) break;
         double next = plain;
         if (relaxed) {
-            const double far = detail::add_down(t, (Interval(omega) * Interval(rad)).lower());
+            const double far = detail::add_down(t, detail::mul_down(omega, rad));
             if (far > plain) {
                 next = std::min(far, ray.tmax);
                 pending = next > plain;
@@ -149,8 +165,8 @@ double global_lipschitz(const expr::Tape& tape, const std::array<Interval, 3>& b
 
 namespace {
 
-RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const TraceOptions& opt,
-                double kappa, detail::LocalBounds& local) {
+RayResult trace(const expr::Tape& tape, const RegionTapes* regions, const Ray& ray, double lambda,
+                const TraceOptions& opt, double kappa, detail::LocalBounds& local) {
     if (std::isnan(lambda) || lambda < 0 || lambda == kInf) {
         RayResult r;
         r.status = Status::Unknown;
@@ -158,13 +174,15 @@ RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const Tra
         r.t_hi = ray.tmax;
         return r;
     }
+    const std::array<Interval, 3> within = detail::segment_box(ray);
     return detail::trace_distance(
         [&](double t, EvalCounts& evals) {
-            return tape_distance(tape, ray, lambda, t, opt.epsilon, local, evals);
+            return tape_distance(tape, regions, ray, within, lambda, t, opt.epsilon, local, evals);
         },
         [&](double t, EvalCounts& evals) {
             ++evals.gradient;
-            return detail::first_order_distance(tape, ray, t);
+            if (!regions) return detail::first_order_distance(tape, ray, t);
+            return detail::first_order_distance(regions->at(detail::point_box(ray, t)), ray, t);
         },
         tape, ray, opt, kappa);
 }
@@ -174,20 +192,32 @@ RayResult trace(const expr::Tape& tape, const Ray& ray, double lambda, const Tra
 RayResult sphere_trace(const expr::Tape& tape, const Ray& ray, double lambda,
                        const TraceOptions& options) {
     detail::LocalBounds local;
-    return trace(tape, ray, lambda, options, 0.0, local);
+    return trace(tape, nullptr, ray, lambda, options, 0.0, local);
 }
 
 RayResult enhanced_trace(const expr::Tape& tape, const Ray& ray, double lambda,
                          const TraceOptions& options) {
     detail::LocalBounds local;
-    return trace(tape, ray, lambda, options, options.kappa, local);
+    return trace(tape, nullptr, ray, lambda, options, options.kappa, local);
+}
+
+RayResult sphere_trace(const RegionTapes& regions, const Ray& ray, double lambda,
+                       const TraceOptions& options) {
+    detail::LocalBounds local;
+    return trace(regions.tape(), &regions, ray, lambda, options, 0.0, local);
+}
+
+RayResult enhanced_trace(const RegionTapes& regions, const Ray& ray, double lambda,
+                         const TraceOptions& options) {
+    detail::LocalBounds local;
+    return trace(regions.tape(), &regions, ray, lambda, options, options.kappa, local);
 }
 
 namespace detail {
 
 RayResult sphere_trace(const expr::Tape& tape, const Ray& ray, double lambda,
                        const TraceOptions& options, LocalBounds& local) {
-    return trace(tape, ray, lambda, options, 0.0, local);
+    return trace(tape, nullptr, ray, lambda, options, 0.0, local);
 }
 
 }  // namespace detail

@@ -13,12 +13,14 @@
 // the tracer farther away, never beyond the first root); Miss when a step passes tmax (proven: no
 // root on [tmin, tmax] given λ); Unknown when the budget is spent (notably for tmax = +inf with
 // no surface ahead: the tracer never proves a miss to infinity), when g is undefined at a point,
-// or when λ is NaN, negative or infinite. Each step costs one interval evaluation (evals.interval),
-// and one interval-gradient evaluation (evals.gradient) where a local bound is tried.
-// Enhanced: steps of (1 + kappa)·|g|/λ; when the unbounding spheres of the old and the new point
-// do not overlap (r_old + r_new < step length) it goes back and takes the plain step, and stays
-// plain for the rest of the ray (Keinert's rule), so the guarantee is kept.
-// Reference: docs/theory/sphere_tracing.md.
+// or when λ is NaN, negative or infinite; with options.hand_over_crawls, also where the bound falls
+// below epsilon while the first-order estimate puts the surface farther than 4·epsilon (a loose
+// bound: the caller goes on by segment tracing from there). Each step costs one interval evaluation
+// (evals.interval), and one interval-gradient evaluation (evals.gradient) where a local bound is
+// tried. Enhanced: steps of (1 + kappa)·|g|/λ; when the unbounding spheres of the old and the new
+// point do not overlap (r_old + r_new < step length) it goes back and takes the plain step, and
+// stays plain for the rest of the ray (Keinert's rule), so the guarantee is kept. Reference:
+// docs/theory/sphere_tracing.md.
 #pragma once
 
 #include <array>
@@ -44,6 +46,15 @@ RayResult sphere_trace(const expr::Tape& tape, const Ray& ray, double lambda,
 RayResult enhanced_trace(const expr::Tape& tape, const Ray& ray, double lambda,
                          const TraceOptions& options);
 
+/// sphere_trace and enhanced_trace on f's region-pruned tapes (tracers/region_tapes.h): each
+/// value, local bound and estimate is evaluated on the tape of its point's or box's region, the
+/// same function there (λ, over the region traced, is the caller's as above). The same contract
+/// and the same steps up to the roundings of the shorter tapes.
+RayResult sphere_trace(const RegionTapes& regions, const Ray& ray, double lambda,
+                       const TraceOptions& options);
+RayResult enhanced_trace(const RegionTapes& regions, const Ray& ray, double lambda,
+                         const TraceOptions& options);
+
 /// The evaluations after which the tracers that combine sphere tracing with segment tracing hand
 /// the rest of a piece still undecided to segment tracing: sphere tracing's free radius shrinks
 /// along a ray that grazes the surface or where λ is loose, segment tracing bounds g along the ray
@@ -61,6 +72,8 @@ namespace detail {
 struct LocalBounds {
     double previous = 0;
     bool useful = true;
+    /// While not useful: a local bound is tried again once the global bound falls below this.
+    double retry_below = 0;
 };
 
 /// sphere_trace continuing from `local` and leaving it as it ends: a caller tracing consecutive
