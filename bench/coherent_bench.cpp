@@ -19,7 +19,6 @@
 #include <benchmark/benchmark.h>
 
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "expr/load.h"
@@ -29,6 +28,7 @@
 #include "tracers/camera.h"
 #include "tracers/coherent.h"
 #include "tracers/methods.h"
+#include "tracers/parallel.h"
 #include "tracers/render.h"
 
 namespace certray {
@@ -128,26 +128,22 @@ void BM_PerRay(benchmark::State& state) {
             r = tracers::render_3d(tape, certified, o.render);
         } else {
             // render_3d has no ortho camera: the same per-pixel loop over PixelRays' rays, rows
-            // dealt out to the threads.
+            // dealt out to the library's workers (tracers/parallel.h).
             const unsigned threads = static_cast<unsigned>(state.range(3));
             std::vector<tracers::RenderStats> part(threads);
-            std::vector<std::thread> pool;
-            for (unsigned w = 0; w < threads; ++w) {
-                pool.emplace_back([&, w] {
-                    for (unsigned j = w; j < side; j += threads) {
-                        for (unsigned i = 0; i < side; ++i) {
-                            Ray ray;
-                            if (!rays.ray(i, j, ray)) continue;
-                            const RayResult a = certified(ray);
-                            part[w].evals += a.evals;
-                            part[w].hit += a.status == Status::Hit;
-                            part[w].miss += a.status == Status::Miss;
-                            part[w].unknown += a.status == Status::Unknown;
-                        }
+            tracers::run_workers(threads, [&](unsigned w) {
+                for (unsigned j = w; j < side; j += threads) {
+                    for (unsigned i = 0; i < side; ++i) {
+                        Ray ray;
+                        if (!rays.ray(i, j, ray)) continue;
+                        const RayResult a = certified(ray);
+                        part[w].evals += a.evals;
+                        part[w].hit += a.status == Status::Hit;
+                        part[w].miss += a.status == Status::Miss;
+                        part[w].unknown += a.status == Status::Unknown;
                     }
-                });
-            }
-            for (std::thread& t : pool) t.join();
+                }
+            });
             r.stats = {};
             for (const tracers::RenderStats& p : part) {
                 r.stats.evals += p.evals;

@@ -47,6 +47,10 @@ namespace bil = boost::numeric::interval_lib;
 /// Ulps by which a glibc round-to-nearest transcendental result is widened outward.
 inline constexpr int kTranscUlps = 2;
 
+/// RD(π), RU(π), RD(π/2), RU(π/2).
+inline constexpr double kPiLo = 0x1.921fb54442d18p+1, kPiHi = 0x1.921fb54442d19p+1;
+inline constexpr double kHalfPiLo = 0x1.921fb54442d18p+0, kHalfPiHi = 0x1.921fb54442d19p+0;
+
 /// The next double above v (std::nextafter(v, +inf) without the library call, whatever the
 /// floating-point environment: the representation's order is the numbers' order); +inf and NaN
 /// are kept.
@@ -268,17 +272,15 @@ struct WidenedTransc : Rounding {
     /// π/2 + kπ (1 for even k, −1 for odd k): the k with kπ (+ π/2) in [lo, hi] lie between
     /// lo/π and hi/π (− 1/2), bounded outward with π ∈ [M_PI, next_up(M_PI)].
     void trig_bounds(bool sine, double& lo, double& hi) {
-        constexpr double pi_lo = 3.141592653589793;  // the double below π
-        const double pi_hi = next_up(pi_lo);
         const double l = lo, u = hi;
-        if (!(u - l < 2 * pi_lo)) {  // a whole period (the width rounded up)
+        if (!(u - l < 2 * kPiLo)) {  // a whole period (the width rounded up)
             lo = -1.0;
             hi = 1.0;
             return;
         }
         // Outward bounds of l/π and u/π (upward mode: a quotient rounded down is −((−a)/b)).
-        double qlo = -((-l) / (l >= 0 ? pi_hi : pi_lo));
-        double qhi = u / (u >= 0 ? pi_lo : pi_hi);
+        double qlo = -((-l) / (l >= 0 ? kPiHi : kPiLo));
+        double qhi = u / (u >= 0 ? kPiLo : kPiHi);
         if (sine) {
             qlo = -(0.5 - qlo);
             qhi = qhi - 0.5;

@@ -22,10 +22,6 @@ namespace certray {
 
 namespace detail {
 
-/// RD(π), RU(π), RD(π/2), RU(π/2).
-inline constexpr double kPiLo = 0x1.921fb54442d18p+1, kPiHi = 0x1.921fb54442d19p+1;
-inline constexpr double kHalfPiLo = 0x1.921fb54442d18p+0, kHalfPiHi = 0x1.921fb54442d19p+0;
-
 /// f(x) computed in round-to-nearest whatever the current mode (which is restored).
 template <class F>
 double nearest_of(F f, double x) {

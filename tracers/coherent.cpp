@@ -73,6 +73,17 @@ bool has_choices(const Ssa& list) {
     });
 }
 
+/// The box [o] + [a, b]·[d] for origins in [olo, ohi] and directions in [dlo, dhi], rounded
+/// outward (in the walk's upward mode): it holds o + t·d for every such ray and t in [a, b].
+std::array<UpInterval, 3> segment_box(const double* olo, const double* ohi, const double* dlo,
+                                      const double* dhi, double a, double b) {
+    const UpInterval t(a, b);
+    std::array<UpInterval, 3> box;
+    for (int c = 0; c < 3; ++c)
+        box[c] = UpInterval(olo[c], ohi[c]) + t * UpInterval(dlo[c], dhi[c]);
+    return box;
+}
+
 /// A register tape from a list written by prune_ssa (slots in any order): renumbered so that slot
 /// i is instruction i, as Tape::from_ssa wants.
 expr::Tape tape_of(const Ssa& list) {
@@ -236,10 +247,8 @@ RayResult Walker::scan(const Ssa& list, const Ray& s) {
     res.status = Status::Miss;
     const auto g = [&](double p, double q) {  // in the walk's upward mode
         ++res.evals.interval;
-        const UpInterval t(p, q);
-        std::array<UpInterval, 3> box;
-        for (int c = 0; c < 3; ++c) box[c] = UpInterval(s.o[c]) + t * UpInterval(s.d[c]);
-        expr::detail::run<UpInterval>(list, box, scan_.data());
+        expr::detail::run<UpInterval>(
+            list, segment_box(s.o.data(), s.o.data(), s.d.data(), s.d.data(), p, q), scan_.data());
         return scan_[list.back().out];
     };
     const auto proven_neg = [](const UpInterval& v) { return v.defined && v.upper() < 0; };
@@ -286,6 +295,7 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
     ++evals.gradient;
     ++evals.interval;
     const UpInterval t(a, b);
+    const std::array<UpInterval, 3> x = segment_box(olo, ohi, dlo, dhi, a, b);
     const bool one_ray = std::equal(olo, olo + 3, ohi) && std::equal(dlo, dlo + 3, dhi);
     if (one_ray) {
         // One ray: the mean value form of g(t) = f(o + t·d) in t, g(tc) + G′(T)·(T − tc), with
@@ -298,7 +308,7 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
         const double tc = midpoint(t);
         for (int k = 0; k < 3; ++k) {
             const UpInterval o(olo[k]), d(dlo[k]);
-            q[k] = D1(o + t * d, {d});
+            q[k] = D1(x[k], {d});
             c[k] = o + UpInterval(tc) * d;  // holds the real point o + tc·d
         }
         expr::detail::run<D1>(list, q, duals1_.data());
@@ -315,10 +325,9 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
     std::array<D, 3> p;
     std::array<UpInterval, 3> c;
     for (int k = 0; k < 3; ++k) {
-        const UpInterval x = UpInterval(olo[k], ohi[k]) + t * UpInterval(dlo[k], dhi[k]);
-        p[k] = D(x);
+        p[k] = D(x[k]);
         p[k].v[k] = UpInterval(1.0);
-        c[k] = UpInterval(midpoint(x));
+        c[k] = UpInterval(midpoint(x[k]));
     }
     expr::detail::run<D>(list, p, duals_.data());
     const D& g = duals_[list.back().out];
@@ -402,16 +411,8 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     // The box [o] + [a, b]·[d] holds o + t·d for every such ray and t in [a, b] (rounded outward).
     Level& level = levels_[depth];
     if (level.values.size() < list.size()) level.values.resize(list.size());
-    UpInterval f;
-    {
-        const UpInterval t(a, b);
-        std::array<UpInterval, 3> box;
-        for (int c = 0; c < 3; ++c) {
-            box[c] = UpInterval(olo[c], ohi[c]) + t * UpInterval(dlo[c], dhi[c]);
-        }
-        expr::detail::run<UpInterval>(list, box, level.values.data());
-        f = level.values[list.back().out];
-    }
+    expr::detail::run<UpInterval>(list, segment_box(olo, ohi, dlo, dhi, a, b), level.values.data());
+    const UpInterval f = level.values[list.back().out];
     ++stats.box_evals;
     stats.box_instructions += list.size();
     ++evals.interval;
