@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "interval/interval.h"
 #include "interval/number.h"
 namespace certray::expr {
 namespace detail {
@@ -15,9 +16,6 @@ namespace {
 // Results smaller than this in magnitude are not folded: below it the residual of a product,
 // quotient or square root may itself underflow, and then a zero residual proves nothing.
 constexpr double kTiny = 0x1p-900;
-
-// The error-free transformations below are exact only in round-to-nearest.
-bool round_to_nearest() { return std::fegetround() == FE_TONEAREST; }
 
 // TwoSum (Knuth): s + e = a + b exactly, so a + b is representable iff e == 0.
 bool exact_sum(double a, double b, double& out) {
@@ -172,6 +170,9 @@ NodeId Graph::var(int axis) {
 }
 
 NodeId Graph::unary(Op op, NodeId a) {
+    // The folds' error-free transformations and the comparisons with 0 and 1 are exact only in
+    // round-to-nearest with subnormals kept: the same DAG whatever the caller's state.
+    const NearestScope env;
     if (arity(op) != 1 || op == Op::Pow) {
         throw std::invalid_argument("expr::Graph::unary: not a unary op: " + std::string(name(op)));
     }
@@ -179,7 +180,6 @@ NodeId Graph::unary(Op op, NodeId a) {
     const Node na = nodes_[a.value];  // a copy: insertion may reallocate nodes_
     const bool is_const = na.op == Op::Const;
     const double c = na.constant;
-    const bool rn = detail::round_to_nearest();
     double r = 0.0;
     switch (op) {
         case Op::Neg:
@@ -192,11 +192,11 @@ NodeId Graph::unary(Op op, NodeId a) {
             if (na.op == Op::Abs) return a;                     // ||x|| = |x|
             break;
         case Op::Square:
-            if (is_const && rn && detail::exact_product(c, c, r)) return constant(r);
+            if (is_const && detail::exact_product(c, c, r)) return constant(r);
             if (na.op == Op::Neg || na.op == Op::Abs) return unary(Op::Square, na.a);  // (±x)² = x²
             break;
         case Op::Sqrt:
-            if (is_const && rn && detail::exact_sqrt(c, r)) return constant(r);
+            if (is_const && detail::exact_sqrt(c, r)) return constant(r);
             break;
         case Op::Exp:
             if (is_const && c == 0.0) return constant(1.0);  // e⁰ = 1 exactly
@@ -230,7 +230,7 @@ NodeId Graph::unary(Op op, NodeId a) {
         case Op::Acos:
             break;
         case Op::Recip:
-            if (is_const && rn && detail::exact_quotient(1.0, c, r)) return constant(r);
+            if (is_const && detail::exact_quotient(1.0, c, r)) return constant(r);
             break;
         case Op::Const:
         case Op::VarX:
@@ -257,6 +257,9 @@ NodeId Graph::unary(Op op, NodeId a) {
 }
 
 NodeId Graph::binary(Op op, NodeId a, NodeId b) {
+    // The folds' error-free transformations and the comparisons with 0 and 1 are exact only in
+    // round-to-nearest with subnormals kept: the same DAG whatever the caller's state.
+    const NearestScope env;
     if (arity(op) != 2) {
         throw std::invalid_argument("expr::Graph::binary: not a binary op: " +
                                     std::string(name(op)));
@@ -273,23 +276,20 @@ NodeId Graph::binary(Op op, NodeId a, NodeId b) {
     const Node nb = nodes_[b.value];
     const bool ca = na.op == Op::Const;
     const bool cb = nb.op == Op::Const;
-    const bool rn = detail::round_to_nearest();
     double r = 0.0;
     switch (op) {
         case Op::Add:
-            if (ca && cb && rn && detail::exact_sum(na.constant, nb.constant, r))
-                return constant(r);
+            if (ca && cb && detail::exact_sum(na.constant, nb.constant, r)) return constant(r);
             if (cb && nb.constant == 0.0) return a;  // x + (±0) = x as a real function
             if (ca && na.constant == 0.0) return b;
             break;
         case Op::Sub:
-            if (ca && cb && rn && detail::exact_sum(na.constant, -nb.constant, r))
-                return constant(r);
+            if (ca && cb && detail::exact_sum(na.constant, -nb.constant, r)) return constant(r);
             if (cb && nb.constant == 0.0) return a;                  // x − 0 = x
             if (ca && na.constant == 0.0) return unary(Op::Neg, b);  // 0 − x = −x
             break;
         case Op::Mul:
-            if (ca && cb && rn && detail::exact_product(na.constant, nb.constant, r)) {
+            if (ca && cb && detail::exact_product(na.constant, nb.constant, r)) {
                 return constant(r);
             }
             if (cb && nb.constant == 1.0) return a;  // x·1 = x
@@ -301,7 +301,7 @@ NodeId Graph::binary(Op op, NodeId a, NodeId b) {
             if (a.value == b.value) return unary(Op::Square, a);
             break;
         case Op::Div:
-            if (ca && cb && rn && detail::exact_quotient(na.constant, nb.constant, r)) {
+            if (ca && cb && detail::exact_quotient(na.constant, nb.constant, r)) {
                 return constant(r);
             }
             if (cb && nb.constant == 1.0) return a;                   // x/1 = x
@@ -359,13 +359,15 @@ NodeId Graph::binary(Op op, NodeId a, NodeId b) {
 }
 
 NodeId Graph::pow(NodeId a, std::uint32_t n) {
+    // The folds' error-free transformations and the comparisons with 0 and 1 are exact only in
+    // round-to-nearest with subnormals kept: the same DAG whatever the caller's state.
+    const NearestScope env;
     check_child(a);
     if (n == 1) return a;
     if (n == 2) return unary(Op::Square, a);
     const Node na = nodes_[a.value];
     double r = 0.0;
-    if (na.op == Op::Const && detail::round_to_nearest() &&
-        detail::exact_power(na.constant, n, r)) {
+    if (na.op == Op::Const && detail::exact_power(na.constant, n, r)) {
         return constant(r);
     }
     Node node;

@@ -28,6 +28,7 @@
 
 #include <bit>
 #include <boost/numeric/interval.hpp>
+#include <cassert>
 #include <cfenv>
 #include <cmath>
 #include <cstdint>
@@ -111,14 +112,18 @@ struct X86RoundingControl {
     }
     /// The whole environment certray computes in, with rounding direction rc: MXCSR with every
     /// exception masked, flush-to-zero (bit 15) and denormals-are-zero (bit 6) clear; the x87 word
-    /// with every exception masked and 64-bit precision. Nothing of the caller's state is kept:
-    /// a host running with FTZ|DAZ (game engines, objects built with -ffast-math) would otherwise
-    /// flush a subnormal bound to a zero that is not one. The caller's words are restored whole
-    /// when the scope that called this ends.
-    static rounding_mode canonical(unsigned rc) {
+    /// with every exception masked, 64-bit precision and round-to-nearest whatever rc is. Nothing
+    /// of the caller's MXCSR is kept: a host running with FTZ|DAZ (game engines, objects built
+    /// with -ffast-math) would otherwise flush a subnormal bound to a zero that is not one. The
+    /// x87 unit computes nothing of certray's (binary64 runs in SSE registers on x86-64, there is
+    /// no long double, and glibc's exp, log, sin and cos ignore the x87 word: tests/interval/
+    /// interval_test.cpp, "LibmIgnoresTheX87Word"), so its rounding field is not switched: fldcw
+    /// is serialising, and a host in the default state then never has that word written. The
+    /// caller's words are restored when the scope that called this ends.
+    static constexpr rounding_mode canonical(unsigned rc) {
         rounding_mode m;
         m.mxcsr = 0x1f80u | (rc << 13);
-        m.x87 = static_cast<unsigned short>(0x037fu | (rc << 10));
+        m.x87 = 0x037fu;
         return m;
     }
     /// Writes the words of `to` that differ from `from` (the current state).
@@ -165,9 +170,9 @@ struct WidenedTransc : Rounding {
         x = opaque(x);  // computed before the switch
 #ifdef CERTRAY_X86_64_ROUNDING
         const X86RoundingControl::rounding_mode saved = X86RoundingControl::current();
-        X86RoundingControl::set_rounding_mode(X86RoundingControl::canonical(0));
+        X86RoundingControl::write(X86RoundingControl::canonical(0), saved);
         const double r = opaque(f(x));
-        X86RoundingControl::set_rounding_mode(saved);
+        X86RoundingControl::write(saved, X86RoundingControl::canonical(0));
 #else
         typename Rounding::rounding_mode saved;
         this->get_rounding_mode(saved);
@@ -177,18 +182,23 @@ struct WidenedTransc : Rounding {
 #endif
         return r;
     }
-    /// f(a) and f(b) in round-to-nearest under one switch of the mode (restored after): half the
-    /// mode switches of two nearest() calls, for the two bounds of a monotone function.
+    /// f(a) and f(b) in round-to-nearest under one switch of the mode, for the two bounds of a
+    /// monotone function. Called only by the interval operations, whose state is always a
+    /// RoundingScope's (canonical upward: ProtectedRounding's guard is one, UpwardRounding runs
+    /// inside one), so on x86-64 MXCSR is written as constants, nearest then upward, without
+    /// reading it first (the x87 word, never switched, is canonical already: canonical()).
     template <class F>
     void nearest2(F f, double& a, double& b) {
         a = opaque(a);
         b = opaque(b);
 #ifdef CERTRAY_X86_64_ROUNDING
-        const X86RoundingControl::rounding_mode saved = X86RoundingControl::current();
-        X86RoundingControl::set_rounding_mode(X86RoundingControl::canonical(0));
+        static constexpr unsigned kNearest = X86RoundingControl::canonical(0).mxcsr;
+        static constexpr unsigned kUpward = X86RoundingControl::canonical(2).mxcsr;
+        assert((X86RoundingControl::current().mxcsr & ~0x3fu) == kUpward);  // flags aside
+        asm volatile("ldmxcsr %0" : : "m"(kNearest) : "memory");
         a = opaque(f(a));
         b = opaque(f(b));
-        X86RoundingControl::set_rounding_mode(saved);
+        asm volatile("ldmxcsr %0" : : "m"(kUpward) : "memory");
 #else
         typename Rounding::rounding_mode saved;
         this->get_rounding_mode(saved);
@@ -324,15 +334,17 @@ using Checking = bil::checking_base<double>;
 /// Sets the rounding mode upward for its lifetime and restores the caller's mode at the end.
 /// Hoist one scope out of a loop of `UpInterval` operations; do not call libm or code that assumes
 /// round-to-nearest inside it. On x86-64 the caller's control words are written back as they were
-/// read (unconditionally: a test before the write measured slower); floating-point exception
+/// read (MXCSR always, the x87 word only if it was not canonical already); floating-point exception
 /// flags raised inside the scope are not kept.
 class RoundingScope {
   public:
 #ifdef CERTRAY_X86_64_ROUNDING
     RoundingScope() : saved_(detail::X86RoundingControl::current()) {
-        detail::X86RoundingControl::set_rounding_mode(detail::X86RoundingControl::canonical(2));
+        detail::X86RoundingControl::write(detail::X86RoundingControl::canonical(2), saved_);
     }
-    ~RoundingScope() { detail::X86RoundingControl::set_rounding_mode(saved_); }
+    ~RoundingScope() {
+        detail::X86RoundingControl::write(saved_, detail::X86RoundingControl::canonical(2));
+    }
 #else
     RoundingScope() = default;
 #endif
@@ -359,7 +371,9 @@ class NearestScope {
     NearestScope() : saved_(detail::X86RoundingControl::current()) {
         detail::X86RoundingControl::write(detail::X86RoundingControl::canonical(0), saved_);
     }
-    ~NearestScope() { detail::X86RoundingControl::set_rounding_mode(saved_); }
+    ~NearestScope() {
+        detail::X86RoundingControl::write(saved_, detail::X86RoundingControl::canonical(0));
+    }
 #else
     NearestScope() : saved_(std::fegetround()) { std::fesetround(FE_TONEAREST); }
     ~NearestScope() { std::fesetround(saved_); }

@@ -4,13 +4,16 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cfenv>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 
 #include "expr/builder.h"
 #include "expr/op.h"
+#include "tests/support/fp_env.h"
 
 namespace certray::expr {
 namespace {
@@ -137,12 +140,47 @@ TEST(Graph, FoldsOnlyExactResults) {
     EXPECT_EQ(g.node(g.pow(c(10.0), 400)).op, Op::Pow);  // overflows
 }
 
-TEST(Graph, NoFoldingOutsideRoundToNearest) {
-    Graph g;
-    std::fesetround(FE_UPWARD);
-    const NodeId s = g.binary(Op::Add, g.constant(0.5), g.constant(0.25));
-    std::fesetround(FE_TONEAREST);
-    EXPECT_EQ(g.node(s).op, Op::Add);
+// The DAG does not depend on the caller's floating-point state (Graph opens a NearestScope): an
+// exact sum folds under any rounding direction, set by fesetround or in MXCSR alone (where x87
+// still says nearest, all that fegetround reads on x86-64), an inexact one never does, and under
+// denormals-are-zero 2^-1074 is still read as itself (1 + 2^-1074 is not 1, and x + 2^-1074 is
+// not x).
+TEST(Graph, FoldsTheSameWhateverTheCallersState) {
+    auto build = [](Graph& g) {
+        const NodeId x = g.var(0);
+        return std::array<NodeId, 4>{g.binary(Op::Add, g.constant(0.5), g.constant(0.25)),
+                                     g.binary(Op::Add, g.constant(0.1), g.constant(0.2)),
+                                     g.binary(Op::Add, g.constant(1.0), g.constant(0x1p-1074)),
+                                     g.binary(Op::Add, x, g.constant(0x1p-1074))};
+    };
+    auto check = [](const Graph& g, const std::array<NodeId, 4>& n, const char* state) {
+        EXPECT_EQ(g.node(n[0]).op, Op::Const) << state;
+        EXPECT_EQ(g.node(n[0]).constant, 0.75) << state;
+        EXPECT_EQ(g.node(n[1]).op, Op::Add) << state;
+        EXPECT_EQ(g.node(n[2]).op, Op::Add) << state;
+        EXPECT_EQ(g.node(n[3]).op, Op::Add) << state;
+    };
+    {
+        Graph g;
+        std::fesetround(FE_UPWARD);
+        const auto n = build(g);
+        std::fesetround(FE_TONEAREST);
+        check(g, n, "fesetround upward");
+    }
+#if defined(__GNUC__) && defined(__x86_64__)
+    const testing::FpWords before = testing::read_fp_words();
+    for (const std::uint32_t mxcsr :
+         {0x1f80u | (2u << 13), 0x1f80u | testing::kDaz | testing::kFtz}) {
+        testing::FpWords w = before;
+        w.mxcsr = mxcsr;
+        w.x87 = 0x037f;
+        Graph g;
+        testing::write_fp_words(w);
+        const auto n = build(g);
+        testing::write_fp_words(before);
+        check(g, n, mxcsr & testing::kDaz ? "ftz-daz" : "mxcsr upward");
+    }
+#endif
 }
 
 TEST(Graph, IdentitiesThatKeepTheRealFunction) {

@@ -176,6 +176,61 @@ TEST(IntervalHostState, EveryRoundingDirectionGivesTheSameBounds) {
     }
 }
 
+// The transcendental bounds switch only MXCSR to nearest and leave the x87 control word at the
+// scope's upward rounding (WidenedTransc::nearest2): sound only if glibc's binary64 exp, log, sin
+// and cos never read that word. They compute in SSE registers; this checks it bit for bit, with the
+// x87 word set upward, downward and to 24-bit precision, over values that take every path of
+// those functions (tiny, subnormal results, near 1, huge reductions, overflow).
+TEST(IntervalHostState, LibmIgnoresTheX87Word) {
+#if defined(__GNUC__) && defined(__x86_64__)
+    std::vector<double> xs = {0.0,    -0.0,  1.0,    -1.0, 0.5,   1e-300, 5e-324,  709.78,
+                              -745.1, 710.0, -746.0, 1e22, -1e22, 1e300,  3.14159, 1.5707963};
+    std::uint64_t state = 0x9e3779b97f4a7c15u;
+    for (int i = 0; i < 20000; ++i) {  // magnitudes 2^-60 .. 2^60, both signs, and near 1
+        state = state * 6364136223846793005u + 1442695040888963407u;
+        const double m = static_cast<double>(state >> 11) * 0x1p-53;
+        const int e = static_cast<int>((state >> 3) % 121) - 60;
+        xs.push_back((state & 1 ? -1 : 1) * std::ldexp(1 + m, e));
+        xs.push_back(1 + (m - 0.5) * 0x1p-20);
+    }
+    auto values = [&] {
+        std::vector<double> v;
+        for (double x : xs) {
+            x = detail::opaque(x);
+            v.push_back(detail::opaque(std::exp(x)));
+            v.push_back(detail::opaque(std::log(std::fabs(x))));
+            v.push_back(detail::opaque(std::sin(x)));
+            v.push_back(detail::opaque(std::cos(x)));
+        }
+        return v;
+    };
+    const testing::FpWords before = testing::read_fp_words();
+    testing::FpWords nearest = before;
+    nearest.mxcsr = 0x1f80;
+    nearest.x87 = 0x037f;
+    testing::write_fp_words(nearest);
+    const std::vector<double> reference = values();
+    for (const std::uint16_t x87 : {std::uint16_t{0x0b7f}, std::uint16_t{0x077f},
+                                    std::uint16_t{0x007f}}) {  // up, down, 24-bit precision
+        testing::FpWords w = nearest;
+        w.x87 = x87;
+        testing::write_fp_words(w);
+        const std::vector<double> got = values();
+        testing::write_fp_words(nearest);
+        ASSERT_EQ(got.size(), reference.size());
+        for (std::size_t k = 0; k < got.size(); ++k) {
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(got[k]),
+                      std::bit_cast<std::uint64_t>(reference[k]))
+                << "x87 word 0x" << std::hex << x87 << ": function " << std::dec << k % 4
+                << " of x = " << xs[k / 4];
+        }
+    }
+    testing::write_fp_words(before);
+#else
+    GTEST_SKIP() << "x86-64 only";
+#endif
+}
+
 TEST(IntervalCases, DivisionIsSetBased) {
     auto check = [](Interval a, Interval b, double lo, double hi) {
         Interval r = a / b;
