@@ -1,0 +1,437 @@
+// expr/eval_interval_batch.cpp — the interval walk over IntervalLanes, vectorised per instruction
+// set.
+//
+// Contract (expr/eval_interval_batch.h): lane i of every register is bit for bit what
+// detail::run<UpInterval> computes for box i. How:
+// - Const, VarX/Y/Z: the scalar walk's value, broadcast or copied.
+// - Neg, Abs, Square, Sqrt, Add, Sub, Mul, Min, Max: interval.h's branch-free kernels, the same
+//   IEEE operations in the same order on kWidth lanes at once (upward mode, the lower bound as
+//   −((−a) ∘ b)); the scalar kernel's one test (lo ≤ hi for + −, no NaN product for ×, a non-empty
+//   operand for the others) is evaluated per lane. Where the scalar kernel returns empty() (the
+//   unary ops, min, max), the lane gets empty()'s NaN bounds and no decoration; where it calls
+//   Boost's case table (+ − × at infinite bounds or on empty operands), the lane calls the scalar
+//   operation itself, on the operands as they were before the instruction wrote its register.
+// - Exp, Log: the scalar exp() and log() with their nearest2 batched: one write of MXCSR to
+//   round-to-nearest for all lanes of the instruction, libm lane by lane, one write back to
+//   upward, then the same widening (exp_below/exp_above, log_below/log_above); the lanes log
+//   sends to Boost (a bound ≤ 0, empty) call the scalar log.
+// - Every other op: the scalar UpInterval operation lane by lane (the calls of eval.h's switch).
+// One template walk over a vector type V (expr/interval_batch_simd.h), compiled for SSE2, AVX2
+// and AVX-512 (target attributes, flattened entry points as in expr/eval_batch.cpp) and chosen by
+// batch_isa(). Decorations are bit masks, so a lane's decoration costs a bit of a mask register.
+// Reference: docs/theory/interval_batch.md; timings in docs/benchmarks.md, "Interval batch walk".
+#include "expr/eval_interval_batch.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "expr/eval_batch.h"
+#include "expr/interval_batch_simd.h"
+
+namespace certray::expr {
+namespace detail {
+namespace {
+
+using Lanes = IntervalLanes;
+using certray::detail::IntervalArith;
+using certray::detail::opaque;
+
+// ---- the scalar operations, lane by lane --------------------------------------------------------
+
+/// What run<UpInterval> writes for instruction `in` given its operands' values a and b (b unused
+/// by unary ops): the calls of eval.h's switch, one by one.
+[[gnu::noinline]] UpInterval scalar_op(const Instr& in, const UpInterval& a, const UpInterval& b) {
+    using certray::abs, certray::square, certray::pow, certray::sqrt, certray::exp, certray::log,
+        certray::sin, certray::cos, certray::min, certray::max, certray::floor, certray::ceil,
+        certray::round, certray::tan, certray::asin, certray::acos, certray::atan, certray::atan2,
+        certray::compare, certray::mod, certray::logic_and, certray::logic_or, certray::logic_not;
+    switch (in.op) {
+        case Op::Const:
+            return UpInterval(in.imm);
+        case Op::VarX:
+        case Op::VarY:
+        case Op::VarZ:
+            return a;  // never called so: the walk copies the inputs
+        case Op::Neg:
+            return -a;
+        case Op::Abs:
+            return abs(a);
+        case Op::Square:
+            return square(a);
+        case Op::Sqrt:
+            return sqrt(a);
+        case Op::Exp:
+            return exp(a);
+        case Op::Log:
+            return log(a);
+        case Op::Sin:
+            return sin(a);
+        case Op::Cos:
+            return cos(a);
+        case Op::Pow:
+            return pow(a, static_cast<unsigned>(in.b));
+        case Op::Add:
+            return a + b;
+        case Op::Sub:
+            return a - b;
+        case Op::Mul:
+            return a * b;
+        case Op::Div:
+            return a / b;
+        case Op::Min:
+            return min(a, b);
+        case Op::Max:
+            return max(a, b);
+        case Op::Floor:
+            return floor(a);
+        case Op::Ceil:
+            return ceil(a);
+        case Op::Round:
+            return round(a);
+        case Op::Tan:
+            return tan(a);
+        case Op::Asin:
+            return asin(a);
+        case Op::Acos:
+            return acos(a);
+        case Op::Atan:
+            return atan(a);
+        case Op::Not:
+            return logic_not(a);
+        case Op::Recip:
+            return UpInterval(1.0) / a;
+        case Op::Atan2:
+            return atan2(a, b);
+        case Op::Compare:
+            return compare(a, b);
+        case Op::Mod:
+            return mod(a, b);
+        case Op::And:
+            return logic_and(a, b);
+        case Op::Or:
+            return logic_or(a, b);
+    }
+    return UpInterval::empty();  // unreachable for valid codes
+}
+
+/// Instruction `in` on lanes 0 … n − 1 with the scalar operation. Each lane is read before it is
+/// written, so the output may be an operand's register.
+[[gnu::noinline]] void scalar_lanes(const Instr& in, Lanes* r, int n) {
+    const Lanes& a = r[in.a];
+    const Lanes& b = arity(in.op) == 2 ? r[in.b] : a;
+    Lanes& o = r[in.out];
+    for (int i = 0; i < n; ++i) set_lane(o, i, scalar_op(in, lane(a, i), lane(b, i)));
+}
+
+/// The lanes k + j (j a bit of `slow`) of instruction `in` with the scalar operation, into lo[j]
+/// and hi[j]; returns their decorations as bits j. The output register is not written.
+[[gnu::noinline]] unsigned scalar_chunk(const Instr& in, const Lanes& a, const Lanes& b, int k,
+                                        unsigned slow, double* lo, double* hi) {
+    unsigned def = 0;
+    for (; slow != 0; slow &= slow - 1) {
+        const int j = __builtin_ctz(slow);
+        const UpInterval v = scalar_op(in, lane(a, k + j), lane(b, k + j));
+        lo[j] = v.lower();
+        hi[j] = v.upper();
+        def |= static_cast<unsigned>(v.defined) << j;
+    }
+    return def;
+}
+
+/// fa[k] = f(fa[k]) and fb[k] = f(fb[k]) for k < n, in round-to-nearest, returning to upward mode:
+/// nearest2 of interval.h with one switch for all lanes (the caller's state is a RoundingScope's).
+template <class F>
+void nearest_lanes(F f, double* fa, double* fb, int n) {
+#ifdef CERTRAY_X86_64_ROUNDING
+    using certray::detail::X86RoundingControl;
+    static constexpr unsigned kNearest = X86RoundingControl::canonical(0).mxcsr;
+    static constexpr unsigned kUpward = X86RoundingControl::canonical(2).mxcsr;
+    assert((X86RoundingControl::current().mxcsr & ~0x3fu) == kUpward);  // flags aside
+    // The operands and results pass through `opaque` (volatile asms, kept in order with the two
+    // ldmxcsr): no libm call can move out of the round-to-nearest stretch.
+    asm volatile("ldmxcsr %0" : : "m"(kNearest) : "memory");
+    for (int k = 0; k < n; ++k) {
+        fa[k] = opaque(f(opaque(fa[k])));
+        fb[k] = opaque(f(opaque(fb[k])));
+    }
+    asm volatile("ldmxcsr %0" : : "m"(kUpward) : "memory");
+#else
+    IntervalArith rnd;
+    for (int k = 0; k < n; ++k) rnd.nearest2(f, fa[k], fb[k]);
+#endif
+}
+
+/// exp (is_exp) or log of lanes 0 … n − 1: interval.h's exp() and log() with the libm calls of
+/// all lanes under one switch of the mode. The output may be the operand's register.
+[[gnu::noinline]] void exp_log_lanes(bool is_exp, const Lanes& a, Lanes& o, int n) {
+    using Boost = UpInterval::Boost;
+    alignas(64) double fa[kIntervalLanes], fb[kIntervalLanes];
+    std::copy(a.lo, a.lo + n, fa);
+    std::copy(a.hi, a.hi + n, fb);
+    nearest_lanes(is_exp ? IntervalArith::exp_rn : IntervalArith::log_rn, fa, fb, n);
+    for (int k = 0; k < n; ++k) {
+        const UpInterval x = lane(a, k);
+        const double l = x.lower(), u = x.upper();
+        UpInterval v;
+        if (is_exp) {
+            v = x.is_empty() ? UpInterval::empty()
+                             : UpInterval{Boost(IntervalArith::exp_below(l, fa[k]),
+                                                IntervalArith::exp_above(u, fb[k])),
+                                          x.defined};
+        } else if (x.is_empty() || !(u > 0) || !(l > 0)) {
+            v = log(x);  // Boost's log: [−inf, …] or empty
+        } else {
+            v = UpInterval{
+                Boost(IntervalArith::log_below(l, fa[k]), IntervalArith::log_above(u, fb[k])),
+                x.defined};
+        }
+        set_lane(o, k, v);
+    }
+}
+
+#if CERTRAY_IBATCH_X86
+
+// ---- the vector kernels -------------------------------------------------------------------------
+
+/// One op on kWidth lanes: the bounds, the lanes computed here (`ok`; the others take the scalar
+/// operation), and their decoration before the operands' is and-ed in.
+template <class V>
+struct Chunk {
+    typename V::R lo, hi;
+    unsigned ok, def;
+};
+
+/// interval.h's kernel for OP on lanes [alo, ahi] (and [blo, bhi] for binary ops), in upward mode.
+template <class V, Op OP>
+[[gnu::always_inline]] inline Chunk<V> kernel(typename V::R alo, typename V::R ahi,
+                                              typename V::R blo, typename V::R bhi) {
+    using R = typename V::R;
+    constexpr unsigned kAll = (1u << V::kWidth) - 1;
+    const R nan = V::set1(std::numeric_limits<double>::quiet_NaN());  // empty()'s bounds
+    const R zero = V::set1(0.0);
+    if constexpr (OP == Op::Add || OP == Op::Sub) {
+        // [RD(alo + blo), RU(ahi + bhi)] / [RD(alo − bhi), RU(ahi − blo)]; Boost's if not lo ≤ hi.
+        const R lo = OP == Op::Add ? V::neg(V::sub(V::neg(alo), blo)) : V::neg(V::sub(bhi, alo));
+        const R hi = OP == Op::Add ? V::add(ahi, bhi) : V::sub(ahi, blo);
+        return {lo, hi, V::bits(V::le(lo, hi)), kAll};
+    } else if constexpr (OP == Op::Mul) {
+        // mul_bounds' two-lane form, lane by lane: hi = max(max(al·blo, ah·blo), max(al·bhi,
+        // ah·bhi)), −lo the same on −al, −ah; Boost's if a product al·b or ah·b is NaN.
+        const R p1l = V::mul(alo, blo), p2l = V::mul(ahi, blo);
+        const R p1h = V::mul(alo, bhi), p2h = V::mul(ahi, bhi);
+        const R nal = V::neg(alo), nah = V::neg(ahi);
+        const R n1l = V::mul(nal, blo), n2l = V::mul(nah, blo);
+        const R n1h = V::mul(nal, bhi), n2h = V::mul(nah, bhi);
+        const R hi = V::max(V::max(p1l, p2l), V::max(p1h, p2h));
+        const R lo = V::neg(V::max(V::max(n1l, n2l), V::max(n1h, n2h)));
+        return {lo, hi, V::bits(V::both(V::ord(p1l, p2l), V::ord(p1h, p2h))), kAll};
+    } else {
+        // The rest return empty() for an empty operand (not lo ≤ hi), and are exact elsewhere.
+        typename V::M e = V::le(alo, ahi);
+        if constexpr (OP == Op::Min || OP == Op::Max) e = V::both(e, V::le(blo, bhi));
+        if constexpr (OP == Op::Sqrt) e = V::both(e, V::le(zero, ahi));  // not u < 0
+        R lo, hi;
+        unsigned def = V::bits(e);
+        if constexpr (OP == Op::Neg) {
+            lo = V::neg(ahi);
+            hi = V::neg(alo);
+        } else if constexpr (OP == Op::Abs) {
+            lo = V::max(V::max(alo, V::neg(ahi)), zero);
+            hi = V::max(V::neg(alo), ahi);
+        } else if constexpr (OP == Op::Square) {  // square_bounds
+            const R m = V::max(V::max(alo, V::neg(ahi)), zero);
+            const R big = V::max(V::neg(alo), ahi);
+            lo = V::neg(V::mul(V::neg(m), m));
+            hi = V::mul(big, big);
+        } else if constexpr (OP == Op::Sqrt) {
+            // [l > 0 ? sqrt_rd(l) : 0, RU(√u)], defined where l ≥ 0; sqrt_rd: RU(√l), or its
+            // predecessor unless its square is l.
+            const R s = V::sqrt(alo);
+            const R rd = V::select(V::eq(V::mul(s, s), alo), s, V::prev(s));
+            lo = V::select(V::lt(zero, alo), rd, zero);
+            hi = V::sqrt(ahi);
+            def &= V::bits(V::le(zero, alo));
+        } else if constexpr (OP == Op::Min) {
+            lo = V::min(alo, blo);
+            hi = V::min(ahi, bhi);
+        } else if constexpr (OP == Op::Max) {
+            lo = V::max(alo, blo);
+            hi = V::max(ahi, bhi);
+        }
+        return {V::select(e, lo, nan), V::select(e, hi, nan), kAll, def};
+    }
+}
+
+/// Instruction `in` (op OP) on lanes 0 … n − 1 (rounded up to kWidth), kWidth lanes at a time;
+/// each block of lanes is read before it is written, so the output may be an operand's register.
+template <class V, Op OP>
+[[gnu::always_inline]] inline void vector_step(const Instr& in, Lanes* r, int n) {
+    constexpr int W = V::kWidth;
+    constexpr unsigned kAll = (1u << W) - 1;
+    const Lanes& a = r[in.a];
+    const Lanes& b = arity(OP) == 2 ? r[in.b] : a;
+    Lanes& o = r[in.out];
+    for (int w = 0; w * 64 < n; ++w) {
+        const int begin = w * 64, end = std::min(n, begin + 64);
+        const std::uint64_t operands = a.defined[w] & b.defined[w];  // read before o is written
+        std::uint64_t def = 0, scalar_def = 0;
+        for (int k = begin; k < end; k += W) {
+            Chunk<V> c = kernel<V, OP>(V::load(a.lo + k), V::load(a.hi + k), V::load(b.lo + k),
+                                       V::load(b.hi + k));
+            const unsigned live = end - k >= W ? kAll : (1u << (end - k)) - 1;
+            if (const unsigned slow = ~c.ok & live; slow != 0) [[unlikely]] {
+                alignas(64) double lo[W], hi[W];
+                V::store(lo, c.lo);
+                V::store(hi, c.hi);
+                scalar_def |= std::uint64_t{scalar_chunk(in, a, b, k, slow, lo, hi)} << (k - begin);
+                c.lo = V::load(lo);
+                c.hi = V::load(hi);
+            }
+            V::store(o.lo + k, c.lo);
+            V::store(o.hi + k, c.hi);
+            def |= std::uint64_t{c.def & c.ok} << (k - begin);
+        }
+        o.defined[w] = (def & operands) | scalar_def;
+    }
+}
+
+/// Const: UpInterval(imm) in every lane.
+template <class V>
+[[gnu::always_inline]] inline void const_step(const Instr& in, Lanes& o, int n) {
+    const UpInterval c(in.imm);
+    const typename V::R lo = V::set1(c.lower()), hi = V::set1(c.upper());
+    for (int k = 0; k < n; k += V::kWidth) {
+        V::store(o.lo + k, lo);
+        V::store(o.hi + k, hi);
+    }
+    for (int w = 0; w * 64 < n; ++w) o.defined[w] = c.defined ? ~std::uint64_t{0} : 0;
+}
+
+/// VarX, VarY, VarZ: the input's lanes.
+template <class V>
+[[gnu::always_inline]] inline void copy_step(const Lanes& x, Lanes& o, int n) {
+    for (int k = 0; k < n; k += V::kWidth) {
+        V::store(o.lo + k, V::load(x.lo + k));
+        V::store(o.hi + k, V::load(x.hi + k));
+    }
+    for (int w = 0; w * 64 < n; ++w) o.defined[w] = x.defined[w];
+}
+
+/// The walk over vectors of V.
+template <class V>
+inline void walk(const Instr* in, const Instr* const end, const Lanes* p, Lanes* r, int n) {
+    static_assert(kIntervalLanes % V::kWidth == 0);
+    for (; in != end; ++in) {
+        switch (in->op) {
+            case Op::Const:
+                const_step<V>(*in, r[in->out], n);
+                break;
+            case Op::VarX:
+            case Op::VarY:
+            case Op::VarZ:
+                copy_step<V>(p[static_cast<int>(in->op) - static_cast<int>(Op::VarX)], r[in->out],
+                             n);
+                break;
+#define CERTRAY_VECTOR_CASE(OP)            \
+    case Op::OP:                           \
+        vector_step<V, Op::OP>(*in, r, n); \
+        break;
+                CERTRAY_VECTOR_CASE(Neg)
+                CERTRAY_VECTOR_CASE(Abs)
+                CERTRAY_VECTOR_CASE(Square)
+                CERTRAY_VECTOR_CASE(Sqrt)
+                CERTRAY_VECTOR_CASE(Add)
+                CERTRAY_VECTOR_CASE(Sub)
+                CERTRAY_VECTOR_CASE(Mul)
+                CERTRAY_VECTOR_CASE(Min)
+                CERTRAY_VECTOR_CASE(Max)
+#undef CERTRAY_VECTOR_CASE
+            case Op::Exp:
+            case Op::Log:
+                exp_log_lanes(in->op == Op::Exp, r[in->a], r[in->out], n);
+                break;
+            case Op::Sin:
+            case Op::Cos:
+            case Op::Pow:
+            case Op::Div:
+            case Op::Floor:
+            case Op::Ceil:
+            case Op::Round:
+            case Op::Tan:
+            case Op::Asin:
+            case Op::Acos:
+            case Op::Atan:
+            case Op::Recip:
+            case Op::Not:
+            case Op::Atan2:
+            case Op::Compare:
+            case Op::Mod:
+            case Op::And:
+            case Op::Or:
+                scalar_lanes(*in, r, n);
+                break;
+        }
+    }
+}
+
+using WalkFn = void (*)(const Instr*, const Instr*, const Lanes*, Lanes*, int);
+
+[[gnu::flatten]] void walk_baseline(const Instr* in, const Instr* end, const Lanes* p, Lanes* r,
+                                    int n) {
+    walk<IvSse2>(in, end, p, r, n);
+}
+[[gnu::target("avx2"), gnu::flatten]] void walk_avx2(const Instr* in, const Instr* end,
+                                                     const Lanes* p, Lanes* r, int n) {
+    walk<IvAvx2>(in, end, p, r, n);
+}
+[[gnu::target("avx512f"), gnu::flatten]] void walk_avx512(const Instr* in, const Instr* end,
+                                                          const Lanes* p, Lanes* r, int n) {
+    walk<IvAvx512>(in, end, p, r, n);
+}
+
+WalkFn walk_for(BatchIsa isa) noexcept {
+    switch (isa) {
+        case BatchIsa::Baseline:
+            return walk_baseline;
+        case BatchIsa::Avx2:
+            return walk_avx2;
+        case BatchIsa::Avx512:
+            return walk_avx512;
+    }
+    return walk_baseline;
+}
+
+#else
+
+/// Any other CPU: the inputs copied, exp and log batched, every other op lane by lane.
+void walk_portable(const Instr* in, const Instr* const end, const Lanes* p, Lanes* r, int n) {
+    for (; in != end; ++in) {
+        if (in->op == Op::VarX || in->op == Op::VarY || in->op == Op::VarZ) {
+            r[in->out] = p[static_cast<int>(in->op) - static_cast<int>(Op::VarX)];
+        } else if (in->op == Op::Exp || in->op == Op::Log) {
+            exp_log_lanes(in->op == Op::Exp, r[in->a], r[in->out], n);
+        } else {
+            scalar_lanes(*in, r, n);
+        }
+    }
+}
+
+#endif
+
+}  // namespace
+}  // namespace detail
+
+void run_interval_batch(const Instr* begin, const Instr* end, const IntervalLanes* p,
+                        IntervalLanes* r, int n) {
+    assert(n >= 1 && n <= kIntervalLanes);
+#if CERTRAY_IBATCH_X86
+    detail::walk_for(batch_isa())(begin, end, p, r, n);
+#else
+    detail::walk_portable(begin, end, p, r, n);
+#endif
+}
+
+}  // namespace certray::expr

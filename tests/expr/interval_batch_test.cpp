@@ -1,0 +1,334 @@
+// tests/expr/interval_batch_test.cpp — the interval batch walk (expr/eval_interval_batch.h)
+// against the scalar detail::run<UpInterval>, lane by lane, bit for bit: both bounds, the
+// decoration, emptiness.
+//
+// Every test runs each copy of the walk this CPU supports (set_batch_isa), and the walk is called
+// as a host in the run's floating-point state would call it (testing::as_host; the suite also
+// runs under each host state, tests/CMakeLists.txt), while the expected values are computed in
+// the default state. Cases: every op on every pair of special boxes (signed zeros, infinite and
+// empty bounds, subnormals, undefined operands), in place and not; random DAGs of every op over
+// random boxes per lane for a random number of lanes, as tapes (registers reused), as SSA lists
+// and as lists written by prune_ssa.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cfloat>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "expr/eval.h"
+#include "expr/eval_batch.h"
+#include "expr/eval_interval_batch.h"
+#include "expr/graph.h"
+#include "expr/prune.h"
+#include "expr/tape.h"
+#include "tests/support/generators.h"
+#include "tests/support/random_dag.h"
+
+namespace certray::expr {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Same bounds bit for bit (NaN payloads included), same decoration, same emptiness.
+bool same(const UpInterval& a, const UpInterval& b) {
+    return std::bit_cast<std::uint64_t>(a.lower()) == std::bit_cast<std::uint64_t>(b.lower()) &&
+           std::bit_cast<std::uint64_t>(a.upper()) == std::bit_cast<std::uint64_t>(b.upper()) &&
+           a.defined == b.defined && a.is_empty() == b.is_empty();
+}
+
+std::string show(const UpInterval& v) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "[" << v.lower() << ", " << v.upper() << "]" << (v.defined ? " def" : " undef")
+       << (v.is_empty() ? " empty" : "") << " (0x" << std::hex
+       << std::bit_cast<std::uint64_t>(v.lower()) << ", 0x"
+       << std::bit_cast<std::uint64_t>(v.upper()) << ")";
+    return os.str();
+}
+
+/// The copies this CPU runs.
+std::vector<BatchIsa> isas() {
+    std::vector<BatchIsa> v;
+    for (BatchIsa isa : {BatchIsa::Baseline, BatchIsa::Avx2, BatchIsa::Avx512}) {
+        if (batch_isa_supported(isa)) v.push_back(isa);
+    }
+    return v;
+}
+
+/// Restores the copy chosen at start-up when a test ends.
+class IsaGuard {
+  public:
+    IsaGuard() : saved_(batch_isa()) {}
+    ~IsaGuard() { set_batch_isa(saved_); }
+
+  private:
+    BatchIsa saved_;
+};
+
+/// One box per lane.
+using Boxes = std::vector<std::array<UpInterval, 3>>;
+
+/// Runs `list` over `boxes` with the scalar walk (default environment, its own RoundingScope) and
+/// with the batch walk on every copy (as the host of this run), and compares every register the
+/// list writes in every lane. Returns a description of the first mismatch, or "".
+std::string mismatch(const std::vector<Instr>& list, const Boxes& boxes) {
+    const int n = static_cast<int>(boxes.size());
+    std::uint32_t registers = 0;
+    std::set<std::uint32_t> written;
+    for (const Instr& in : list) {
+        registers = std::max(registers, in.out + 1);
+        written.insert(in.out);
+    }
+    // Expected: want[i][reg].
+    std::vector<std::vector<UpInterval>> want(n, std::vector<UpInterval>(registers));
+    {
+        RoundingScope up;
+        for (int i = 0; i < n; ++i) detail::run<UpInterval>(list, boxes[i], want[i].data());
+    }
+    std::array<IntervalLanes, 3> p{};
+    for (int i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k) set_lane(p[k], i, boxes[i][k]);
+    }
+    IsaGuard guard;
+    std::vector<IntervalLanes> r(registers);
+    for (BatchIsa isa : isas()) {
+        set_batch_isa(isa);
+        // Stale values in every register, so that a lane the walk forgets to write shows.
+        for (IntervalLanes& reg : r) {
+            for (int i = 0; i < kIntervalLanes; ++i) set_lane(reg, i, UpInterval(-12345.0));
+        }
+        testing::as_host([&] {
+            RoundingScope up;
+            run_interval_batch(list.data(), list.data() + list.size(), p.data(), r.data(), n);
+            return 0;
+        });
+        for (std::uint32_t reg : written) {
+            for (int i = 0; i < n; ++i) {
+                const UpInterval got = lane(r[reg], i);
+                if (!same(got, want[i][reg])) {
+                    std::ostringstream os;
+                    os << batch_isa_name(isa) << " n=" << n << " lane " << i << " register " << reg
+                       << ": batch " << show(got) << ", scalar " << show(want[i][reg]) << "; box x "
+                       << show(boxes[i][0]) << " y " << show(boxes[i][1]) << " z "
+                       << show(boxes[i][2]);
+                    return os.str();
+                }
+            }
+        }
+    }
+    return "";
+}
+
+/// Boxes at the corners of every kernel: signed zeros (also [0, −0] and [−0, +0]), infinite and
+/// half-infinite bounds, [+inf, +inf], subnormals, huge values, the empty box, an undefined box.
+std::vector<UpInterval> special_boxes() {
+    const double sub = std::ldexp(1.0, -1074), tiny = std::ldexp(3.0, -1060);
+    return {UpInterval(0.0),
+            UpInterval(-0.0),
+            UpInterval(-0.0, 0.0),
+            UpInterval(0.0, -0.0),
+            UpInterval(-kInf, kInf),
+            UpInterval(kInf, kInf),
+            UpInterval(-kInf, -kInf),
+            UpInterval(1.0, kInf),
+            UpInterval(-kInf, -1.0),
+            UpInterval(0.0, kInf),
+            UpInterval(-kInf, -0.0),
+            UpInterval(1.0, 2.0),
+            UpInterval(-2.0, -1.0),
+            UpInterval(-1.0, 1.0),
+            UpInterval(-3.0, 0.0),
+            UpInterval(0.0, 5.0),
+            UpInterval(sub, tiny),
+            UpInterval(-tiny, sub),
+            UpInterval(-DBL_MAX, DBL_MAX),
+            UpInterval(DBL_MAX),
+            UpInterval(0.1, 0.30000000000000004),
+            UpInterval(1e300, 1e301),
+            UpInterval(1.5707963267948966),
+            UpInterval(-7.5, 7.25),
+            UpInterval(2.0),
+            UpInterval(-1.0),
+            UpInterval::empty(),
+            UpInterval{UpInterval(2.0, 3.0).iv, false},
+            UpInterval{UpInterval(-0.5, 0.25).iv, false}};
+}
+
+/// Every op of the .vm language (Pow with exponents 0 … 5).
+std::vector<Instr> every_op_instrs(std::uint32_t out, std::uint32_t a, std::uint32_t b) {
+    std::vector<Instr> v;
+    for (int code = 0; code < kOpCount; ++code) {
+        const Op op = static_cast<Op>(code);
+        if (arity(op) == 0) continue;
+        if (op == Op::Pow) {
+            for (std::uint32_t e = 0; e <= 5; ++e) v.push_back({op, out, a, e, 0.0});
+        } else {
+            v.push_back({op, out, a, b, 0.0});
+        }
+    }
+    return v;
+}
+
+TEST(IntervalBatch, LanesRoundTrip) {
+    IntervalLanes x;
+    for (int i = 0; i < kIntervalLanes; ++i) set_lane(x, i, UpInterval(1.0));
+    for (const UpInterval& v : special_boxes()) {
+        for (int i : {0, 1, 31, 63, kIntervalLanes - 1}) {
+            set_lane(x, i, v);
+            EXPECT_TRUE(same(lane(x, i), v)) << i << " " << show(v);
+        }
+    }
+}
+
+/// x ∘ y for every op on every pair of special boxes (one pair per lane), written to a new
+/// register and in place (the output register is x's, then y's).
+TEST(IntervalBatch, EveryOpOnEveryPairOfSpecialBoxes) {
+    const std::vector<UpInterval> s = special_boxes();
+    std::vector<Boxes> batches(1);
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        for (std::size_t j = 0; j < s.size(); ++j) {
+            if (batches.back().size() == static_cast<std::size_t>(kIntervalLanes)) {
+                batches.emplace_back();
+            }
+            batches.back().push_back({s[i], s[j], s[(i + j) % s.size()]});
+        }
+    }
+    for (std::uint32_t out : {2u, 0u, 1u}) {
+        for (const Instr& op : every_op_instrs(out, 0, 1)) {
+            const std::vector<Instr> list = {
+                {Op::VarX, 0, 0, 0, 0.0}, {Op::VarY, 1, 0, 0, 0.0}, op};
+            for (const Boxes& b : batches) {
+                const std::string m = mismatch(list, b);
+                EXPECT_EQ(m, "") << name(op.op) << " into register " << out;
+            }
+        }
+    }
+}
+
+/// Constants, and an op whose operands are one register (x ∘ x).
+TEST(IntervalBatch, ConstantsAndSharedOperands) {
+    const std::vector<UpInterval> s = special_boxes();
+    Boxes boxes;
+    for (std::size_t i = 0; i < s.size(); ++i) boxes.push_back({s[i], s[i], s[i]});
+    for (double c : {0.0, -0.0, 1.0, -3.5, 1e-310, DBL_MAX, 0.1}) {
+        for (const Instr& op : every_op_instrs(2, 0, 1)) {
+            const std::vector<Instr> list = {
+                {Op::Const, 0, 0, 0, c}, {Op::VarZ, 1, 0, 0, 0.0}, op, {op.op, 1, 1, 1, 0.0}};
+            EXPECT_EQ(mismatch(list, boxes), "") << name(op.op) << " with " << c;
+        }
+    }
+}
+
+// ---- random expressions --------------------------------------------------------------------
+
+/// A random DAG over every op (random_dag.h's gen_dag draws the first 19 only).
+rc::Gen<Graph> gen_any_dag(int max_ops) {
+    return rc::gen::exec([max_ops] {
+        Graph g;
+        std::vector<NodeId> nodes;
+        for (int axis = 0; axis < 3; ++axis) nodes.push_back(g.var(axis));
+        const int constants = *rc::gen::inRange(1, 4);
+        for (int i = 0; i < constants; ++i) {
+            nodes.push_back(g.constant(*rc::gen::oneOf(
+                rc::gen::element(0.5, 1.0, 2.0, -3.0, 0.1, 0.0, 1e-300, 1e300, -7.25),
+                rc::gen::map(rc::gen::inRange(-1000, 1000), [](int k) { return k / 8.0; }))));
+        }
+        const int ops = *rc::gen::inRange(1, max_ops);
+        for (int i = 0; i < ops; ++i) {
+            const int n = static_cast<int>(nodes.size());
+            const auto pick = [&] { return nodes[*rc::gen::inRange(std::max(0, n - 6), n)]; };
+            const Op op = static_cast<Op>(*rc::gen::inRange(4, kOpCount));
+            if (op == Op::Pow) {
+                nodes.push_back(g.pow(pick(), *rc::gen::inRange(0u, 6u)));
+            } else if (arity(op) == 1) {
+                nodes.push_back(g.unary(op, pick()));
+            } else {
+                nodes.push_back(g.binary(op, pick(), pick()));
+            }
+        }
+        g.set_output(nodes.back());
+        return g;
+    });
+}
+
+/// A box for one lane: gen_bounds' corners (points, unbounded, huge, a few ulps, subnormal and
+/// signed-zero bounds), small boxes in [−1, 1] as a renderer makes them, rarely empty or
+/// undefined.
+rc::Gen<UpInterval> gen_box() {
+    namespace gen = rc::gen;
+    auto any = gen::map(testing::gen_bounds(),
+                        [](std::pair<double, double> b) { return UpInterval(b.first, b.second); });
+    auto small = gen::apply(
+        [](int c, int w) {
+            const double lo = std::ldexp(static_cast<double>(c), -10);
+            return UpInterval(lo, lo + std::ldexp(static_cast<double>(w), -12));
+        },
+        gen::inRange(-1024, 1024), gen::inRange(0, 64));
+    auto undefined = gen::map(testing::gen_bounds(), [](std::pair<double, double> b) {
+        return UpInterval{UpInterval(b.first, b.second).iv, false};
+    });
+    return gen::weightedOneOf<UpInterval>(
+        {{30, any}, {20, small}, {1, gen::just(UpInterval::empty())}, {1, undefined}});
+}
+
+/// n ∈ [1, kIntervalLanes] lanes of boxes.
+rc::Gen<Boxes> gen_boxes() {
+    return rc::gen::exec([] {
+        const int n = *rc::gen::inRange(1, kIntervalLanes + 1);
+        Boxes b(n);
+        for (auto& box : b) {
+            for (auto& v : box) v = *gen_box();
+        }
+        return b;
+    });
+}
+
+RC_GTEST_PROP(IntervalBatchProperty, TapesMatchTheScalarWalk, ()) {
+    const Tape t(*gen_any_dag(40));
+    const std::string m = mismatch(t.instrs(), *gen_boxes());
+    RC_ASSERT(m == "");
+}
+
+RC_GTEST_PROP(IntervalBatchProperty, BasicOpTapesMatchTheScalarWalk, ()) {
+    const Tape t(*testing::gen_dag(40));  // the ops of the renderer's scenes, more of each
+    const std::string m = mismatch(t.instrs(), *gen_boxes());
+    RC_ASSERT(m == "");
+}
+
+RC_GTEST_PROP(IntervalBatchProperty, SsaListsMatchTheScalarWalk, ()) {
+    const Tape t(*gen_any_dag(40));
+    const std::string m = mismatch(t.ssa(), *gen_boxes());
+    RC_ASSERT(m == "");
+}
+
+/// Lists written by prune_ssa (slots numbered from the output backwards), pruned to a box.
+RC_GTEST_PROP(IntervalBatchProperty, PrunedSsaListsMatchTheScalarWalk, ()) {
+    const Tape t(*gen_any_dag(40));
+    const std::vector<Instr>& ssa = t.ssa();
+    std::array<UpInterval, 3> region;
+    for (auto& v : region) v = *gen_box();
+    std::vector<UpInterval> values(ssa.size());
+    PruneWorkspace ws;
+    std::vector<Instr> pruned;
+    bool shorter = false;
+    {
+        RoundingScope up;
+        detail::run<UpInterval>(ssa, region, values.data());
+        shorter = prune_ssa(ssa, values.data(), ws, pruned);
+    }
+    RC_CLASSIFY(shorter);
+    const std::string m = mismatch(shorter ? pruned : ssa, *gen_boxes());
+    RC_ASSERT(m == "");
+}
+
+}  // namespace
+}  // namespace certray::expr
