@@ -19,6 +19,12 @@
 // (d) outside Google Benchmark (skipped with --no_ops): the batch walk's cost per instruction on
 //     synthetic chains of 1,000 instructions of one kind, per copy (what a Const, a unary op, a
 //     result that must be stored cost).
+// (e) `ibatch-scalar/<scene>`: detail::run<UpInterval> box by box inside one RoundingScope (the
+//     certified renderer's walk); `ibatch-<n>/<scene>`: run_interval_batch over n boxes per walk
+//     (expr/eval_interval_batch.h, the copy chosen for this CPU), `ibatch-<isa>-64/<scene>` on
+//     each copy; 128 boxes of side 2^-6 centred in [-1, 1]^3 per pass, on Barth's sextic
+//     (scenes/barth_sextic.vm), bear and colonnade (scenes/fidget/); CPU ns per box and the
+//     ratio scalar / batch, in table (e).
 // The custom main prints the tables (CPU time; ratios from times of this process).
 // Results and the command that produced them: docs/benchmarks.md, "Expression evaluation (issue
 // 3)".
@@ -44,6 +50,7 @@
 #include "expr/derived.h"
 #include "expr/eval.h"
 #include "expr/eval_batch.h"
+#include "expr/eval_interval_batch.h"
 #include "expr/load.h"
 #include "expr/prune.h"
 #include "expr/tape.h"
@@ -57,9 +64,12 @@ namespace {
 using expr::Evaluator;
 using expr::Tape;
 
-constexpr int kPoints = 256;       // points per pass of batch/double/native
-constexpr int kBoxes = 64;         // points or boxes per pass of interval/dual/idual
-constexpr double kHalfBox = 1e-3;  // half side of the small boxes of (b)
+constexpr int kPoints = 256;            // points per pass of batch/double/native
+constexpr int kBoxes = 64;              // points or boxes per pass of interval/dual/idual
+constexpr double kHalfBox = 1e-3;       // half side of the small boxes of (b)
+constexpr int kIbatchBoxes = 128;       // boxes per pass of (e)
+constexpr double kIbatchHalf = 0x1p-7;  // half side of the boxes of (e)
+const std::array<int, 4> kIbatchLanes = {8, 16, 32, 64};  // lanes per walk in (e)
 
 /// A hand-written f over arrays of points: out[i] = f(x[i], y[i], z[i]).
 using Native = void (*)(const double*, const double*, const double*, double*, int);
@@ -478,8 +488,78 @@ void bm_idual(benchmark::State& state, const Scene* s) {
     }
 }
 
+// ---- (e) the interval batch walk
+// --------------------------------------------------------------------
+
+/// A scene of (e): a tape and kIbatchBoxes boxes, as UpInterval triples and as lanes of
+/// IntervalLanes (kIntervalLanes boxes per group).
+struct BoxScene {
+    std::string name;
+    Tape tape;
+    std::vector<std::array<UpInterval, 3>> boxes;
+};
+std::vector<BoxScene> g_box_scenes;
+
+void make_box_scenes() {
+    const std::string dir = CERTRAY_SOURCE_DIR "/scenes/";
+    const std::pair<const char*, const char*> files[] = {{"barth", "barth_sextic.vm"},
+                                                         {"bear", "fidget/bear.vm"},
+                                                         {"colonnade", "fidget/colonnade.vm"}};
+    for (const auto& [name, file] : files) {
+        BoxScene s{name, Tape(expr::load_graph_file(dir + file)), {}};
+        std::mt19937_64 rng(13);
+        std::uniform_real_distribution<double> u(-1.0 + kIbatchHalf, 1.0 - kIbatchHalf);
+        for (int i = 0; i < kIbatchBoxes; ++i) {
+            std::array<UpInterval, 3> b;
+            for (auto& v : b) {
+                const double c = u(rng);
+                v = UpInterval(c - kIbatchHalf, c + kIbatchHalf);
+            }
+            s.boxes.push_back(b);
+        }
+        g_box_scenes.push_back(std::move(s));
+    }
+}
+
+/// run<UpInterval> box by box, inside one RoundingScope per pass.
+void bm_ibatch_scalar(benchmark::State& state, const BoxScene* s) {
+    std::vector<UpInterval> regs(s->tape.registers());
+    for (auto _ : state) {
+        RoundingScope up;
+        for (const auto& b : s->boxes) {
+            expr::detail::run<UpInterval>(s->tape.instrs(), b, regs.data());
+            benchmark::DoNotOptimize(regs[s->tape.output()]);
+        }
+    }
+}
+
+/// run_interval_batch over `lanes` boxes per walk (the inputs set once, outside the timing), on
+/// the copy `isa` (none: the one chosen for this CPU).
+void bm_ibatch(benchmark::State& state, const BoxScene* s, int lanes,
+               std::optional<expr::BatchIsa> isa) {
+    const int groups = kIbatchBoxes / lanes;
+    std::vector<std::array<expr::IntervalLanes, 3>> in(groups);
+    for (int i = 0; i < kIbatchBoxes; ++i) {
+        for (int k = 0; k < 3; ++k) expr::set_lane(in[i / lanes][k], i % lanes, s->boxes[i][k]);
+    }
+    std::vector<expr::IntervalLanes> regs(s->tape.registers());
+    const expr::BatchIsa chosen = expr::batch_isa();
+    if (isa) expr::set_batch_isa(*isa);
+    const std::vector<expr::Instr>& list = s->tape.instrs();
+    for (auto _ : state) {
+        RoundingScope up;
+        for (const auto& p : in) {
+            expr::run_interval_batch(list.data(), list.data() + list.size(), p.data(), regs.data(),
+                                     lanes);
+            benchmark::DoNotOptimize(regs[s->tape.output()]);
+        }
+    }
+    expr::set_batch_isa(chosen);
+}
+
 /// Evaluations (points, boxes) per pass of each kind.
 int per_pass(const std::string& kind) {
+    if (kind.starts_with("ibatch")) return kIbatchBoxes;
     return (kind.starts_with("batch") || kind == "double" || kind.starts_with("native")) ? kPoints
                                                                                          : kBoxes;
 }
@@ -547,6 +627,32 @@ class TableReporter : public benchmark::ConsoleReporter {
             std::printf("%-10s %12.1f %15.2fx %15.2fx %17.2fx\n", s.name.c_str(), d,
                         get("interval", s.name) / d, get("dual", s.name) / d,
                         get("idual", s.name) / d);
+        }
+        print_ibatch_table();
+    }
+
+    void print_ibatch_table() const {
+        if (g_box_scenes.empty() || std::isnan(get("ibatch-scalar", g_box_scenes[0].name))) return;
+        std::printf(
+            "\n(e) Interval enclosures of %d boxes of side 2^-6 in [-1, 1]^3, CPU ns per box: "
+            "run<UpInterval>\nbox by box against run_interval_batch over n boxes per walk (%s "
+            "copy; last columns n = 64 on each copy); ratio = scalar / batch:\n",
+            kIbatchBoxes, expr::batch_isa_name(expr::batch_isa()));
+        std::printf("%-10s %6s %10s", "scene", "instrs", "scalar");
+        for (int n : kIbatchLanes)
+            std::printf(" %12s %7s", ("n=" + std::to_string(n)).c_str(), "ratio");
+        std::printf(" %10s %10s %10s\n", "baseline", "avx2", "avx512");
+        for (const BoxScene& s : g_box_scenes) {
+            const double sc = get("ibatch-scalar", s.name);
+            std::printf("%-10s %6zu %10.1f", s.name.c_str(), s.tape.size(), sc);
+            for (int n : kIbatchLanes) {
+                const double b = get("ibatch-" + std::to_string(n), s.name);
+                std::printf(" %12.1f %6.2fx", b, sc / b);
+            }
+            for (const char* isa : {"baseline", "avx2", "avx512"}) {
+                std::printf(" %10.1f", get(std::string("ibatch-") + isa + "-64", s.name));
+            }
+            std::printf("\n");
         }
     }
 };
@@ -717,6 +823,23 @@ int main(int argc, char** argv) {
         benchmark::RegisterBenchmark(("interval/" + s.name).c_str(), bm_interval, p);
         benchmark::RegisterBenchmark(("dual/" + s.name).c_str(), bm_dual, p);
         benchmark::RegisterBenchmark(("idual/" + s.name).c_str(), bm_idual, p);
+    }
+    make_box_scenes();
+    for (const BoxScene& s : g_box_scenes) {
+        const BoxScene* p = &s;
+        benchmark::RegisterBenchmark(("ibatch-scalar/" + s.name).c_str(), bm_ibatch_scalar, p);
+        for (int n : kIbatchLanes) {
+            benchmark::RegisterBenchmark(("ibatch-" + std::to_string(n) + "/" + s.name).c_str(),
+                                         bm_ibatch, p, n, std::optional<expr::BatchIsa>());
+        }
+        for (expr::BatchIsa isa :
+             {expr::BatchIsa::Baseline, expr::BatchIsa::Avx2, expr::BatchIsa::Avx512}) {
+            if (!expr::batch_isa_supported(isa)) continue;
+            const std::string name =
+                std::string("ibatch-") + expr::batch_isa_name(isa) + "-64/" + s.name;
+            benchmark::RegisterBenchmark(name.c_str(), bm_ibatch, p, 64,
+                                         std::optional<expr::BatchIsa>(isa));
+        }
     }
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

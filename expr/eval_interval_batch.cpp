@@ -7,10 +7,12 @@
 // - Neg, Abs, Square, Sqrt, Add, Sub, Mul, Min, Max: interval.h's branch-free kernels, the same
 //   IEEE operations in the same order on kWidth lanes at once (upward mode, the lower bound as
 //   −((−a) ∘ b)); the scalar kernel's one test (lo ≤ hi for + −, no NaN product for ×, a non-empty
-//   operand for the others) is evaluated per lane. Where the scalar kernel returns empty() (the
-//   unary ops, min, max), the lane gets empty()'s NaN bounds and no decoration; where it calls
-//   Boost's case table (+ − × at infinite bounds or on empty operands), the lane calls the scalar
-//   operation itself, on the operands as they were before the instruction wrote its register.
+//   operand for the others) is evaluated per lane. Div and Recip (= [1, 1] / a): Boost's quotient
+//   for a divisor without 0 (div_non_zero), its six sign cases as selects of the operands. Where
+//   the scalar kernel returns empty() (the unary ops, min, max), the lane gets empty()'s NaN bounds
+//   and no decoration; where it calls Boost's case table (+ − × at infinite bounds or on empty
+//   operands), the lane calls the scalar operation itself, on the operands as they were before the
+//   instruction wrote its register.
 // - Exp, Log: the scalar exp() and log() with their nearest2 batched: one write of MXCSR to
 //   round-to-nearest for all lanes of the instruction, libm lane by lane, one write back to
 //   upward, then the same widening (exp_below/exp_above, log_below/log_above); the lanes log
@@ -228,6 +230,28 @@ template <class V, Op OP>
         const R hi = V::max(V::max(p1l, p2l), V::max(p1h, p2h));
         const R lo = V::neg(V::max(V::max(n1l, n2l), V::max(n1h, n2h)));
         return {lo, hi, V::bits(V::both(V::ord(p1l, p2l), V::ord(p1h, p2h))), kAll};
+    } else if constexpr (OP == Op::Div || OP == Op::Recip) {
+        // Boost's div_non_zero for 0 ∉ [c, d] (c > 0 or d < 0), its sign cases as selects:
+        // lo = −(x / −y) and hi = x' / y' with x = d < 0 ? xu : xl, x' = d < 0 ? xl : xu,
+        // y = xu < 0 ? c : xl < 0 ? (d < 0 ? d : c) : d, y' = xu < 0 ? d : xl < 0 ? (d < 0 ? d :
+        // c) : c. Recip is [1, 1] / a. The scalar operation for empty operands, 0 ∈ [c, d], and
+        // NaN quotients (∞ / ∞, which it repairs).
+        R xl = alo, xu = ahi, c = blo, d = bhi;
+        if constexpr (OP == Op::Recip) {
+            xl = xu = V::set1(1.0);
+            c = alo;
+            d = ahi;
+        }
+        const typename V::M nxu = V::lt(xu, zero), nxl = V::lt(xl, zero), nd = V::lt(d, zero);
+        const R mixed = V::select(nd, d, c);  // the denominator when xl < 0 ≤ xu
+        const R lo_den = V::select(nxu, c, V::select(nxl, mixed, d));
+        const R hi_den = V::select(nxu, d, V::select(nxl, mixed, c));
+        const R lo = V::neg(V::div(V::select(nd, xu, xl), V::neg(lo_den)));
+        const R hi = V::div(V::select(nd, xl, xu), hi_den);
+        const typename V::M nonzero = V::either(V::lt(zero, c), nd);
+        const typename V::M ok =
+            V::both(V::both(V::le(xl, xu), V::le(c, d)), V::both(nonzero, V::le(lo, hi)));
+        return {lo, hi, V::bits(ok), kAll};
     } else {
         // The rest return empty() for an empty operand (not lo ≤ hi), and are exact elsewhere.
         typename V::M e = V::le(alo, ahi);
@@ -346,6 +370,8 @@ inline void walk(const Instr* in, const Instr* const end, const Lanes* p, Lanes*
                 CERTRAY_VECTOR_CASE(Add)
                 CERTRAY_VECTOR_CASE(Sub)
                 CERTRAY_VECTOR_CASE(Mul)
+                CERTRAY_VECTOR_CASE(Div)
+                CERTRAY_VECTOR_CASE(Recip)
                 CERTRAY_VECTOR_CASE(Min)
                 CERTRAY_VECTOR_CASE(Max)
 #undef CERTRAY_VECTOR_CASE
@@ -356,7 +382,6 @@ inline void walk(const Instr* in, const Instr* const end, const Lanes* p, Lanes*
             case Op::Sin:
             case Op::Cos:
             case Op::Pow:
-            case Op::Div:
             case Op::Floor:
             case Op::Ceil:
             case Op::Round:
@@ -364,7 +389,6 @@ inline void walk(const Instr* in, const Instr* const end, const Lanes* p, Lanes*
             case Op::Asin:
             case Op::Acos:
             case Op::Atan:
-            case Op::Recip:
             case Op::Not:
             case Op::Atan2:
             case Op::Compare:

@@ -2,11 +2,11 @@
 // vector type per instruction set, with the operations the UpInterval kernels are made of.
 //
 // Contract: each type gives R (kWidth doubles), M (a mask of kWidth lanes), aligned load/store,
-// set1, the IEEE + − × √ (rounded in the current MXCSR mode, as the scalar SSE instructions of the
-// kernels are), neg (sign flip), max and min with the x86 instruction's rule — max(a, b) =
-// (a > b) ? a : b, min(a, b) = (a < b) ? a : b, NaN and equal operands giving b, exactly
-// interval.h's max2/min2 and the MAXPD of its two-lane product kernel — ordered comparisons
-// (false for NaN), select, the mask as kWidth bits, and prev (the double whose bits are one less).
+// set1, the IEEE + − × ÷ √ (rounded in the current MXCSR mode, as the scalar SSE instructions of
+// the kernels are), neg (sign flip), max and min with the x86 instruction's rule — max(a, b) = (a >
+// b) ? a : b, min(a, b) = (a < b) ? a : b, NaN and equal operands giving b, exactly interval.h's
+// max2/min2 and the MAXPD of its two-lane product kernel — ordered comparisons (false for NaN),
+// and/or of masks, select, the mask as kWidth bits, and prev (the double whose bits are one less).
 // The AVX types' functions carry target attributes: they inline only into functions compiled
 // for that target (no -march anywhere), as in expr/batch_simd.h.
 #pragma once
@@ -42,6 +42,7 @@ struct IvSse2 {
     static R add(R a, R b) { return _mm_add_pd(a, b); }
     static R sub(R a, R b) { return _mm_sub_pd(a, b); }
     static R mul(R a, R b) { return _mm_mul_pd(a, b); }
+    static R div(R a, R b) { return _mm_div_pd(a, b); }
     static R sqrt(R a) { return _mm_sqrt_pd(a); }
     static R neg(R a) { return _mm_xor_pd(a, _mm_set1_pd(-0.0)); }
     static R max(R a, R b) { return _mm_max_pd(a, b); }
@@ -54,6 +55,7 @@ struct IvSse2 {
     static M eq(R a, R b) { return _mm_cmpeq_pd(a, b); }
     static M ord(R a, R b) { return _mm_cmpord_pd(a, b); }
     static M both(M a, M b) { return _mm_and_pd(a, b); }
+    static M either(M a, M b) { return _mm_or_pd(a, b); }
     static R select(M m, R t, R f) { return _mm_or_pd(_mm_and_pd(m, t), _mm_andnot_pd(m, f)); }
     static unsigned bits(M m) { return static_cast<unsigned>(_mm_movemask_pd(m)); }
 };
@@ -69,6 +71,7 @@ struct IvAvx2 {
     CERTRAY_AVX2 static R add(R a, R b) { return _mm256_add_pd(a, b); }
     CERTRAY_AVX2 static R sub(R a, R b) { return _mm256_sub_pd(a, b); }
     CERTRAY_AVX2 static R mul(R a, R b) { return _mm256_mul_pd(a, b); }
+    CERTRAY_AVX2 static R div(R a, R b) { return _mm256_div_pd(a, b); }
     CERTRAY_AVX2 static R sqrt(R a) { return _mm256_sqrt_pd(a); }
     CERTRAY_AVX2 static R neg(R a) { return _mm256_xor_pd(a, _mm256_set1_pd(-0.0)); }
     CERTRAY_AVX2 static R max(R a, R b) { return _mm256_max_pd(a, b); }
@@ -81,6 +84,7 @@ struct IvAvx2 {
     CERTRAY_AVX2 static M eq(R a, R b) { return _mm256_cmp_pd(a, b, _CMP_EQ_OQ); }
     CERTRAY_AVX2 static M ord(R a, R b) { return _mm256_cmp_pd(a, b, _CMP_ORD_Q); }
     CERTRAY_AVX2 static M both(M a, M b) { return _mm256_and_pd(a, b); }
+    CERTRAY_AVX2 static M either(M a, M b) { return _mm256_or_pd(a, b); }
     CERTRAY_AVX2 static R select(M m, R t, R f) { return _mm256_blendv_pd(f, t, m); }
     CERTRAY_AVX2 static unsigned bits(M m) { return static_cast<unsigned>(_mm256_movemask_pd(m)); }
 };
@@ -97,6 +101,7 @@ struct IvAvx512 {
     CERTRAY_AVX512 static R add(R a, R b) { return _mm512_add_pd(a, b); }
     CERTRAY_AVX512 static R sub(R a, R b) { return _mm512_sub_pd(a, b); }
     CERTRAY_AVX512 static R mul(R a, R b) { return _mm512_mul_pd(a, b); }
+    CERTRAY_AVX512 static R div(R a, R b) { return _mm512_div_pd(a, b); }
     CERTRAY_AVX512 static R sqrt(R a) { return _mm512_sqrt_pd(a); }
     CERTRAY_AVX512 static R neg(R a) {  // AVX-512F has no FP xor: the integer one
         const __m512i s = _mm512_set1_epi64(static_cast<long long>(0x8000000000000000ull));
@@ -112,6 +117,7 @@ struct IvAvx512 {
     CERTRAY_AVX512 static M eq(R a, R b) { return _mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ); }
     CERTRAY_AVX512 static M ord(R a, R b) { return _mm512_cmp_pd_mask(a, b, _CMP_ORD_Q); }
     CERTRAY_AVX512 static M both(M a, M b) { return static_cast<M>(a & b); }
+    CERTRAY_AVX512 static M either(M a, M b) { return static_cast<M>(a | b); }
     CERTRAY_AVX512 static R select(M m, R t, R f) { return _mm512_mask_blend_pd(m, f, t); }
     CERTRAY_AVX512 static unsigned bits(M m) { return m; }
 };
