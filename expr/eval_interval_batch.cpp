@@ -25,6 +25,7 @@
 #include "expr/eval_interval_batch.h"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
@@ -166,31 +167,81 @@ void nearest_lanes(F f, double* fa, double* fb, int n) {
 #endif
 }
 
-/// exp (is_exp) or log of lanes 0 … n − 1: interval.h's exp() and log() with the libm calls of
-/// all lanes under one switch of the mode. The output may be the operand's register.
-[[gnu::noinline]] void exp_log_lanes(bool is_exp, const Lanes& a, Lanes& o, int n) {
+/// The double whose bits are those of r plus k (k = ±2: two steps along the representation).
+inline double bits_plus(double r, std::int64_t k) {
+    return std::bit_cast<double>(std::bit_cast<std::uint64_t>(r) + static_cast<std::uint64_t>(k));
+}
+
+/// Lane k of exp (is_exp) or log of `a` with the scalar function's own widening: interval.h's
+/// exp() and log() given fa = exp or log of the lower bound, fb of the upper, in round-to-nearest.
+UpInterval exp_log_lane(bool is_exp, const Lanes& a, int k, double fa, double fb) {
     using Boost = UpInterval::Boost;
+    const UpInterval x = lane(a, k);
+    const double l = x.lower(), u = x.upper();
+    if (is_exp) {
+        if (x.is_empty()) return UpInterval::empty();
+        return {Boost(IntervalArith::exp_below(l, fa), IntervalArith::exp_above(u, fb)), x.defined};
+    }
+    if (x.is_empty() || !(u > 0) || !(l > 0)) return log(x);  // Boost's log: [−inf, …] or empty
+    return {Boost(IntervalArith::log_below(l, fa), IntervalArith::log_above(u, fb)), x.defined};
+}
+
+/// exp (is_exp) or log of lanes 0 … n − 1: interval.h's exp() and log() with the libm calls of
+/// all lanes under one switch of the mode. The widening by kTranscUlps = 2 ulps is two steps of
+/// the representation where the scalar functions' special cases cannot arise (exp: finite non-zero
+/// bounds, results in [+0, +inf], where step_down(r, 2) is bits − 2 clamped at +0 and step_up(r, 2)
+/// bits + 2 capped at +inf; log: finite bounds ≠ 1 with 0 < l, normal results, where the steps
+/// never cross 0 or reach ±inf); every other lane takes exp_log_lane. The output may be the
+/// operand's register.
+[[gnu::noinline]] void exp_log_lanes(bool is_exp, const Lanes& a, Lanes& o, int n) {
+    static_assert(certray::detail::kTranscUlps == 2, "exp_log_lanes steps two ulps");
+    constexpr double kInf = std::numeric_limits<double>::infinity();
     alignas(64) double fa[kIntervalLanes], fb[kIntervalLanes];
     std::copy(a.lo, a.lo + n, fa);
     std::copy(a.hi, a.hi + n, fb);
     nearest_lanes(is_exp ? IntervalArith::exp_rn : IntervalArith::log_rn, fa, fb, n);
-    for (int k = 0; k < n; ++k) {
-        const UpInterval x = lane(a, k);
-        const double l = x.lower(), u = x.upper();
-        UpInterval v;
-        if (is_exp) {
-            v = x.is_empty() ? UpInterval::empty()
-                             : UpInterval{Boost(IntervalArith::exp_below(l, fa[k]),
-                                                IntervalArith::exp_above(u, fb[k])),
-                                          x.defined};
-        } else if (x.is_empty() || !(u > 0) || !(l > 0)) {
-            v = log(x);  // Boost's log: [−inf, …] or empty
-        } else {
-            v = UpInterval{
-                Boost(IntervalArith::log_below(l, fa[k]), IntervalArith::log_above(u, fb[k])),
-                x.defined};
+    for (int w = 0; w * 64 < n; ++w) {
+        const int begin = w * 64, end = std::min(n, begin + 64);
+        std::uint64_t def = a.defined[w], slow = 0;  // read before o is written
+        for (int k = begin; k < end; ++k) {
+            const double l = a.lo[k], u = a.hi[k], ra = fa[k], rb = fb[k];
+            double lo = 0, hi = 0;
+            bool fast;
+            if (is_exp) {
+                fast = l <= u && l != 0 && u != 0 && l > -kInf && u < kInf && !std::signbit(ra) &&
+                       !std::signbit(rb) && !std::isnan(ra) && !std::isnan(rb);
+                lo = std::bit_cast<std::uint64_t>(ra) >= 2 ? bits_plus(ra, -2) : 0.0;
+                hi = std::bit_cast<std::uint64_t>(rb) < std::bit_cast<std::uint64_t>(kInf) - 2
+                         ? bits_plus(rb, 2)
+                         : kInf;
+            } else {
+                const auto normal = [](double r) {
+                    return std::fabs(r) >= std::numeric_limits<double>::min() &&
+                           std::fabs(r) < 0x1p1000;
+                };
+                fast = 0 < l && l <= u && u < kInf && l != 1 && u != 1 && normal(ra) && normal(rb);
+                lo = bits_plus(ra, ra > 0 ? -2 : 2);
+                hi = bits_plus(rb, rb > 0 ? 2 : -2);
+            }
+            fast = fast && lo <= hi;  // Boost(lo, hi) is then [lo, hi]
+            const std::uint64_t bit = std::uint64_t{1} << (k - begin);
+            if (fast) {
+                o.lo[k] = lo;
+                o.hi[k] = hi;
+            } else {
+                slow |= bit;
+            }
         }
-        set_lane(o, k, v);
+        // The other lanes, whose operand is intact (o is written only where fast).
+        std::uint64_t slow_def = 0;
+        for (std::uint64_t m = slow; m != 0; m &= m - 1) {
+            const int k = begin + __builtin_ctzll(m);
+            const UpInterval v = exp_log_lane(is_exp, a, k, fa[k], fb[k]);
+            o.lo[k] = v.lower();
+            o.hi[k] = v.upper();
+            slow_def |= std::uint64_t{v.defined} << (k - begin);
+        }
+        o.defined[w] = (def & ~slow) | slow_def;
     }
 }
 
