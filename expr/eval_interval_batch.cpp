@@ -129,6 +129,7 @@ using certray::detail::opaque;
     for (int i = 0; i < n; ++i) set_lane(o, i, scalar_op(in, lane(a, i), lane(b, i)));
 }
 
+#if CERTRAY_IBATCH_X86
 /// The lanes k + j (j a bit of `slow`) of instruction `in` with the scalar operation, into lo[j]
 /// and hi[j]; returns their decorations as bits j. The output register is not written.
 [[gnu::noinline]] unsigned scalar_chunk(const Instr& in, const Lanes& a, const Lanes& b, int k,
@@ -143,6 +144,7 @@ using certray::detail::opaque;
     }
     return def;
 }
+#endif
 
 /// fa[k] = f(fa[k]) and fb[k] = f(fb[k]) for k < n, in round-to-nearest, returning to upward mode:
 /// nearest2 of interval.h with one switch for all lanes (the caller's state is a RoundingScope's).

@@ -20,8 +20,9 @@
 
 namespace certray::expr {
 
-/// The capacity of IntervalLanes: how many boxes one walk can evaluate (docs/benchmarks.md,
-/// "Interval batch walk": the time per box stops falling at 32 to 64 boxes).
+/// The capacity of IntervalLanes: how many boxes one walk can evaluate. 64 lanes are 1 KiB of
+/// bounds, as a Batch is; 128 would save 3–15 % more per box (docs/benchmarks.md, "Interval batch
+/// walk").
 inline constexpr int kIntervalLanes = 64;
 
 /// kIntervalLanes intervals, structure of arrays, aligned to a cache line: lane i is
