@@ -13,7 +13,8 @@
 // one hits half a pixel deep (CoherentOptions::depth_pixels 0.5, as `certray render`); 0: the
 // defaults (hits narrowed to 4 ulps, by the exact oracle where the intervals cannot). Counters per
 // pixel: whole-tape evaluations (evals/px: box evaluations and every solve's), box evaluations
-// (boxes/px), leaf solves (leaves/px), and the image's hit/miss/unknown counts. Command:
+// (boxes/px), leaf solves (leaves/px), of those decided by scans (scans/px) and by scans of
+// several rays at once (together/px), and the image's hit/miss/unknown counts. Command:
 // build/bench/coherent_bench [--benchmark_filter=…]; results in docs/benchmarks.md, "Coherent
 // certified rendering".
 #include <benchmark/benchmark.h>
@@ -99,6 +100,8 @@ void BM_Coherent(benchmark::State& state) {
     report(state, r, px);
     state.counters["boxes/px"] = static_cast<double>(s.box_evals) / px;
     state.counters["leaves/px"] = static_cast<double>(s.leaf_solves) / px;
+    state.counters["scans/px"] = static_cast<double>(s.scans) / px;
+    state.counters["together/px"] = static_cast<double>(s.together) / px;
     state.counters["leaf_evals/px"] = static_cast<double>(r.stats.evals.total() - s.box_evals) / px;
     state.counters["box_len"] =
         s.box_evals > 0 ? static_cast<double>(s.box_instructions) / s.box_evals : 0;

@@ -22,6 +22,7 @@
 
 #include "expr/derived.h"
 #include "expr/eval.h"
+#include "expr/eval_interval_batch.h"
 #include "expr/prune.h"
 #include "interval/dual.h"
 #include "interval/interval.h"
@@ -60,6 +61,13 @@ struct Level {
     std::vector<UpInterval> values;
     Ssa list;
     expr::Tape tape;
+    /// A ray scanned with others (Walker::scan_together), waiting to be settled.
+    struct Scanned {
+        unsigned i, j;
+        Ray s;
+        RayResult res;
+    };
+    std::vector<Scanned> scanned;
 };
 
 bool splittable(double a, double b) {
@@ -161,6 +169,22 @@ class Walker {
     /// opposite signs); otherwise Unknown with t_lo = p, where the solver takes over. A few
     /// evaluations where the solver's Newton steps and bisections would spend about ten.
     RayResult scan(const Ssa& list, const Ray& s);
+    /// The rest of a leaf's work on pixel (i, j) whose segment s (the ray within the node's
+    /// [a, b]) got `res`: from scan() when `scanned` (an Unknown there runs the solver from its
+    /// t_lo), else from the solver. A Miss proves s free and leaves the pixel open; an Unknown is
+    /// split again or handed to the per-ray solver on the rest of the ray; anything else is the
+    /// pixel's answer.
+    void settle(unsigned i, unsigned j, const Ray& s, RayResult res, bool scanned, const Ssa& list,
+                const expr::Tape*& tape, Level& level, unsigned depth);
+    /// scan() for the open rays of r that meet [a, b] (at most CoherentOptions::together_rays, each
+    /// segment at most kMaxPieces pieces long) all at once: every piece of every ray is one lane of
+    /// one batched evaluation, then the points that the pieces' decisions need are a second one.
+    /// Each ray's answer is the one scan() gives it (the same enclosures, bit for bit), settled
+    /// as leaf() settles it. False, with nothing evaluated, when a ray's segment is too long.
+    bool scan_together(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
+                       Level& level, unsigned depth);
+    /// Enclosures of `list` over the boxes lanes_[0, n) into lane_values_[0, n).
+    void eval_lanes(const Ssa& list, std::size_t n);
     /// Solid: every open ray of r that meets [a, b] enters {f < 0} at its first parameter in
     /// [a, b] (the box there is proven inside, and g ≥ 0 is proven before): a Hit [t, t].
     void inside(const Rect& r, double a, double b, const Ssa& list);
@@ -177,6 +201,15 @@ class Walker {
         if (f.is_empty() || f.lower() >= 0) return Proof::Excluded;
         return f.defined && f.upper() < 0 ? Proof::Inside : Proof::None;
     }
+    /// For a scanned piece [p, q] of s that the plain enclosure and the point tests left
+    /// undecided: what the mean value form in t proves on it (None if it does not apply), its
+    /// evaluations counted in res.
+    Proof piece_mean_value(const Ssa& list, const Ray& s, double p, double q, RayResult& res);
+    /// scan()'s last resort on the first piece [p, q] of s that neither its enclosure nor the
+    /// point tests decided (res: Unknown from p): the mean value form in t, tighter on a short
+    /// piece than the plain enclosure. Proven free: the scan of the rest [q, s.tmax]; proven
+    /// inside (solid): Hit [p, p]; else res.
+    RayResult after_points(const Ssa& list, const Ray& s, double p, double q, RayResult res);
     /// The certified answer on one ray segment, for the surface asked for.
     RayResult solve(const expr::Tape& tape, const Ray& ray) const {
         return solid_ ? solvers::solid_first_entry(tape, ray, solid_options_)
@@ -237,6 +270,18 @@ class Walker {
     }
     /// At most this many pieces a leaf segment is scanned in; longer ones go to the solver.
     static constexpr int kMaxPieces = 8;
+    /// scan_together()'s lanes: the boxes, their enclosures, and per lane the ray's pixel and
+    /// the piece [p, q].
+    std::vector<std::array<UpInterval, 3>> lanes_;
+    std::vector<UpInterval> lane_values_;
+    struct Piece {
+        unsigned i, j;
+        double p, q;
+    };
+    std::vector<Piece> pieces_;
+    std::vector<std::size_t> first_piece_, point_lane_;
+    std::array<expr::IntervalLanes, 3> lane_in_;  ///< eval_lanes()'s boxes, x, y, z
+    std::vector<expr::IntervalLanes> lane_regs_;  ///< eval_lanes()'s registers
 };
 
 RayResult Walker::scan(const Ssa& list, const Ray& s) {
@@ -278,10 +323,49 @@ RayResult Walker::scan(const Ssa& list, const Ray& s) {
                 res.t_hi = q;
             }
         }
-        if (res.status == Status::Hit) res.t = 0.5 * res.t_lo + 0.5 * res.t_hi;
-        return res;
+        if (res.status == Status::Hit) {
+            res.t = 0.5 * res.t_lo + 0.5 * res.t_hi;
+            return res;
+        }
+        return after_points(list, s, p, q, res);
     }
     return res;
+}
+
+RayResult Walker::after_points(const Ssa& list, const Ray& s, double p, double q, RayResult res) {
+    const Proof again = piece_mean_value(list, s, p, q, res);
+    if (again == Proof::Excluded) {  // [tmin, q] is free: the rest is scanned afresh
+        RayResult rest;
+        rest.status = Status::Miss;
+        if (q < s.tmax) {
+            Ray r = s;
+            r.tmin = q;
+            rest = scan(list, r);
+        }
+        rest.evals += res.evals;
+        return rest;
+    }
+    if (again == Proof::Inside) {
+        res.status = Status::Hit;
+        res.t_hi = p;
+        res.t = p;
+    }
+    return res;
+}
+
+Walker::Proof Walker::piece_mean_value(const Ssa& list, const Ray& s, double p, double q,
+                                       RayResult& res) {
+    // mean_value() counts a node's evaluations; these are the pixel's (added to the walk's
+    // when the pixel is spent or answered) and not box evaluations.
+    const EvalCounts before = evals;
+    const std::uint64_t boxes = stats.box_evals, instructions = stats.box_instructions;
+    const UpInterval m = mean_value(list, p, q, s.o.data(), s.o.data(), s.d.data(), s.d.data());
+    res.evals.interval += evals.interval - before.interval;
+    res.evals.gradient += evals.gradient - before.gradient;
+    evals = before;
+    stats.box_evals = boxes;
+    stats.box_instructions = instructions;
+    return m.is_empty() ? Proof::None : proof(m);
 }
 
 UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double* olo,
@@ -442,6 +526,10 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
         ++stats.prunes;
     }
 
+    if (count > 1 && count <= options_.together_rays &&
+        scan_together(r, a, b, *sub, sub_tape, level, depth)) {
+        return;
+    }
     if (count > 1 && depth + 1 < kMaxDepth) {
         // How far apart the rays are at the far end, plus a pixel: the box's lateral extent.
         double spread_o = 0, spread_d = 0;
@@ -474,6 +562,26 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
 
 void Walker::leaf(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
                   Level& level, unsigned depth) {
+    for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
+        for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
+            Px& p = px(i, j);
+            if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
+            // [tmin, a) is proven free of zeros, and `list` equals f on the ray for t in [a, b].
+            Ray s = p.ray;
+            s.tmin = std::max(a, p.ray.tmin);
+            s.tmax = std::min(b, p.ray.tmax);
+            const double w = piece_width(s);
+            // A segment a few depths long is scanned in pieces, the solver only where that does
+            // not decide.
+            const bool scanned = w > 0 && s.tmax - s.tmin <= kMaxPieces * w;
+            settle(i, j, s, scanned ? scan(list, s) : RayResult{}, scanned, list, tape, level,
+                   depth);
+        }
+    }
+}
+
+void Walker::settle(unsigned i, unsigned j, const Ray& s, RayResult res, bool scanned,
+                    const Ssa& list, const expr::Tape*& tape, Level& level, unsigned depth) {
     // The register tape only when a solver runs (a scan walks the list itself).
     const auto solver_tape = [&]() -> const expr::Tape& {
         if (tape == nullptr) {
@@ -482,63 +590,181 @@ void Walker::leaf(const Rect& r, double a, double b, const Ssa& list, const expr
         }
         return *tape;
     };
+    Px& p = px(i, j);
+    ++stats.leaf_solves;
+    if (!scanned) {
+        res = solve(solver_tape(), s);
+    } else if (res.status != Status::Unknown) {
+        ++stats.scans;
+    } else {
+        const EvalCounts spent = res.evals;
+        Ray rest = s;
+        rest.tmin = res.t_lo;
+        res = solve(solver_tape(), rest);
+        res.evals += spent;
+    }
+    if (res.status == Status::Miss) {  // free of zeros up to b: the walk goes on
+        spend(i, j, res.evals);
+        return;
+    }
+    if (res.status == Status::Unknown && choices_ && p.splits < kMaxSplits &&
+        depth + 1 < kMaxDepth && splittable(s.tmin, s.tmax)) {
+        // Undecided on the segment with this tape: each half gets its own box evaluation and a
+        // tape pruned to it, where the choices that blurred the sign may resolve
+        // (max(x, −min(x, y)) at the edge of a plane where f touches 0, say).
+        ++p.splits;
+        ++stats.splits;
+        spend(i, j, res.evals);
+        const double m = 0.5 * s.tmin + 0.5 * s.tmax;
+        const Rect one{i, j, 1, 1};  // this ray alone
+        node(one, s.tmin, m, list, tape, depth + 1);
+        if (p.open) node(one, m, s.tmax, list, tape, depth + 1);
+        return;  // answered by the halves, or proven free of zeros up to s.tmax
+    }
+    if (res.status == Status::Unknown && s.tmax < p.ray.tmax) {
+        // Undecided in this segment: the per-ray solver on the rest of the ray (full tape) may
+        // still prove a zero further along, as it would on the whole ray.
+        ++stats.fallbacks;
+        Ray rest = p.ray;
+        rest.tmin = s.tmin;
+        const EvalCounts spent = res.evals;
+        res = solve(tape_, rest);
+        res.evals += spent;
+    }
+    answer(i, j, p, res, list, s.tmin, s.tmax);
+}
+
+void Walker::eval_lanes(const Ssa& list, std::size_t n) {
+    if (lane_regs_.size() < list.size()) lane_regs_.resize(list.size());
+    if (lane_values_.size() < n) lane_values_.resize(n);
+    const std::uint32_t out = list.back().out;
+    for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
+        const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
+        for (int k = 0; k < m; ++k) {
+            for (int c = 0; c < 3; ++c) expr::set_lane(lane_in_[c], k, lanes_[k0 + k][c]);
+        }
+        expr::run_interval_batch(list.data(), list.data() + list.size(), lane_in_.data(),
+                                 lane_regs_.data(), m);
+        for (int k = 0; k < m; ++k) lane_values_[k0 + k] = expr::lane(lane_regs_[out], k);
+    }
+}
+
+bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
+                           const expr::Tape* tape, Level& level, unsigned depth) {
+    // The pieces of every ray, as scan() cuts them; none if a segment is too long.
+    pieces_.clear();
+    level.scanned.clear();
     for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
         for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
-            Px& p = px(i, j);
+            const Px& p = px(i, j);
             if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
-            // [tmin, a) is proven free of zeros, and `tape` equals f on the ray for t in [a, b].
             Ray s = p.ray;
             s.tmin = std::max(a, p.ray.tmin);
             s.tmax = std::min(b, p.ray.tmax);
-            ++stats.leaf_solves;
-            RayResult res;
             const double w = piece_width(s);
-            if (w > 0 && s.tmax - s.tmin <= kMaxPieces * w) {
-                // A segment a few depths long: scanned in pieces, the solver only where that
-                // does not decide.
-                res = scan(list, s);
-                if (res.status != Status::Unknown) ++stats.scans;
-                if (res.status == Status::Unknown) {
-                    const EvalCounts spent = res.evals;
-                    Ray rest = s;
-                    rest.tmin = res.t_lo;
-                    res = solve(solver_tape(), rest);
-                    res.evals += spent;
-                }
-            } else {
-                res = solve(solver_tape(), s);
+            if (!(w > 0 && s.tmax - s.tmin <= kMaxPieces * w)) return false;
+            const int n = static_cast<int>(std::ceil((s.tmax - s.tmin) / w));
+            for (int k = 0; k < n; ++k) {
+                const double lo = k == 0 ? s.tmin : std::min(s.tmax, s.tmin + k * w);
+                const double hi = k + 1 == n ? s.tmax : std::min(s.tmax, s.tmin + (k + 1) * w);
+                if (lo < hi) pieces_.push_back({i, j, lo, hi});
             }
-            if (res.status == Status::Miss) {  // free of zeros up to b: the walk goes on
-                spend(i, j, res.evals);
-                continue;
-            }
-            if (res.status == Status::Unknown && choices_ && p.splits < kMaxSplits &&
-                depth + 1 < kMaxDepth && splittable(s.tmin, s.tmax)) {
-                // Undecided on the segment with this tape: each half gets its own box evaluation
-                // and a tape pruned to it, where the choices that blurred the sign may resolve
-                // (max(x, −min(x, y)) at the edge of a plane where f touches 0, say).
-                ++p.splits;
-                ++stats.splits;
-                spend(i, j, res.evals);
-                const double m = 0.5 * s.tmin + 0.5 * s.tmax;
-                const Rect one{i, j, 1, 1};  // this ray alone
-                node(one, s.tmin, m, list, tape, depth + 1);
-                if (p.open) node(one, m, s.tmax, list, tape, depth + 1);
-                continue;  // answered by the halves, or proven free of zeros up to s.tmax
-            }
-            if (res.status == Status::Unknown && s.tmax < p.ray.tmax) {
-                // Undecided in this segment: the per-ray solver on the rest of the ray (full tape)
-                // may still prove a zero further along, as it would on the whole ray.
-                ++stats.fallbacks;
-                Ray rest = p.ray;
-                rest.tmin = s.tmin;
-                const EvalCounts spent = res.evals;
-                res = solve(tape_, rest);
-                res.evals += spent;
-            }
-            answer(i, j, p, res, list, s.tmin, s.tmax);
+            RayResult res;
+            res.status = Status::Miss;
+            level.scanned.push_back({i, j, s, res});
         }
     }
+    // Every piece's enclosure, in one batched evaluation.
+    const std::size_t n = pieces_.size();
+    if (lanes_.size() < 3 * n) lanes_.resize(3 * n);  // the pieces, then up to two points a ray
+    for (std::size_t k = 0; k < n; ++k) {
+        const Piece& c = pieces_[k];
+        const Ray& ray = px(c.i, c.j).ray;
+        lanes_[k] = segment_box(ray.o.data(), ray.o.data(), ray.d.data(), ray.d.data(), c.p, c.q);
+    }
+    eval_lanes(list, n);
+    // Each ray's first piece not proven free (the scan's answer so far), and the points its
+    // decision needs: q (solid, unless the piece is proven inside), or p and q (zero, when g is
+    // defined and continuous on the piece).
+    const auto proven_neg = [](const UpInterval& v) { return v.defined && v.upper() < 0; };
+    const auto proven_pos = [](const UpInterval& v) { return v.defined && v.lower() > 0; };
+    std::vector<std::size_t>& first = first_piece_;  // per ray: its first piece not proven free
+    std::vector<std::size_t>& at = point_lane_;      // per ray: its first point lane, or none
+    first.assign(level.scanned.size(), n);
+    at.assign(level.scanned.size(), n);
+    std::size_t points = 0;
+    for (std::size_t k = 0, ray = 0; k < n; ++k) {
+        while (pieces_[k].i != level.scanned[ray].i || pieces_[k].j != level.scanned[ray].j) ++ray;
+        RayResult& res = level.scanned[ray].res;
+        if (first[ray] != n) continue;  // scan() stops at this ray's first undecided piece
+        ++res.evals.interval;
+        if (proof(lane_values_[k]) == Proof::Excluded) continue;
+        first[ray] = k;
+        const Piece& c = pieces_[k];
+        res.status = Status::Unknown;
+        res.t_lo = c.p;
+        res.t_hi = level.scanned[ray].s.tmax;
+        const Ray& full = px(c.i, c.j).ray;
+        const auto point = [&](double t) {
+            lanes_[n + points++] =
+                segment_box(full.o.data(), full.o.data(), full.d.data(), full.d.data(), t, t);
+        };
+        if (solid_) {
+            if (proven_neg(lane_values_[k])) {
+                res.status = Status::Hit;
+                res.t_hi = c.p;
+            } else {
+                at[ray] = points;
+                point(c.q);
+            }
+        } else if (lane_values_[k].defined) {
+            at[ray] = points;
+            point(c.p);
+            point(c.q);
+        }
+    }
+    // The points, in a second batched evaluation, and each ray's decision as scan() makes it.
+    if (points > 0) {
+        std::copy(lanes_.begin() + static_cast<std::ptrdiff_t>(n),
+                  lanes_.begin() + static_cast<std::ptrdiff_t>(n + points), lanes_.begin());
+        eval_lanes(list, points);
+    }
+    for (std::size_t ray = 0; ray < level.scanned.size(); ++ray) {
+        if (at[ray] == n) continue;
+        RayResult& res = level.scanned[ray].res;
+        const Piece& c = pieces_[first[ray]];
+        if (solid_) {
+            ++res.evals.interval;
+            if (proven_neg(lane_values_[at[ray]])) {
+                res.status = Status::Hit;
+                res.t_hi = c.q;
+            }
+        } else {
+            res.evals.interval += 2;
+            const UpInterval& gp = lane_values_[at[ray]];
+            const UpInterval& gq = lane_values_[at[ray] + 1];
+            if ((proven_neg(gp) && proven_pos(gq)) || (proven_pos(gp) && proven_neg(gq))) {
+                res.status = Status::Hit;
+                res.t_hi = c.q;
+            }
+        }
+    }
+    for (std::size_t ray = 0; ray < level.scanned.size(); ++ray) {
+        Level::Scanned& z = level.scanned[ray];
+        if (z.res.status == Status::Hit) {
+            z.res.t = 0.5 * z.res.t_lo + 0.5 * z.res.t_hi;
+        } else if (z.res.status == Status::Unknown) {
+            const Piece& c = pieces_[first[ray]];
+            z.res = after_points(list, z.s, c.p, c.q, z.res);
+        }
+    }
+    // Settled in pixel order; a split recurses into deeper levels, which do not touch this one.
+    for (std::size_t ray = 0; ray < level.scanned.size(); ++ray) {
+        const Level::Scanned z = level.scanned[ray];
+        stats.together += z.res.status != Status::Unknown;
+        settle(z.i, z.j, z.s, z.res, true, list, tape, level, depth);
+    }
+    return true;
 }
 
 void Walker::inside(const Rect& r, double a, double b, const Ssa& list) {
@@ -736,6 +962,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.boxes_inside += s.boxes_inside;
         total.leaf_solves += s.leaf_solves;
         total.scans += s.scans;
+        total.together += s.together;
         total.fallbacks += s.fallbacks;
         total.splits += s.splits;
         total.prunes += s.prunes;

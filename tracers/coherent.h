@@ -97,6 +97,13 @@ struct CoherentOptions {
     /// for ray lists (query bundles) nor for the depth AOV (depths as data keep their digits).
     /// 0.5 is what an image needs (the CLI's render, the benchmarks).
     double depth_pixels = 0;
+    /// With depth_pixels: a node of at most this many open rays whose segments are each at most
+    /// 8 pieces of that depth long is not divided further; its rays are scanned together, every
+    /// piece of every ray one lane of one batched interval evaluation (docs/theory/coherent.md,
+    /// "Scanning rays together"). The answers are those of scanning each ray alone; ≤ 1: each
+    /// ray alone, at the end of the descent. 8 measured best of 4–64 on Barth's sextic, the
+    /// tanglecube, Chmutov's sextic and Fidget's bear and colonnade (docs/benchmarks.md).
+    unsigned together_rays = 8;
 };
 
 /// What the coherent walk did, summed over the image.
@@ -107,6 +114,7 @@ struct CoherentStats {
     std::uint64_t boxes_inside = 0;      ///< solid: boxes proven inside (f < 0), rays answered
     std::uint64_t leaf_solves = 0;       ///< certified solves of one ray on one segment
     std::uint64_t scans = 0;        ///< leaf segments decided by scanning pieces (depth_pixels)
+    std::uint64_t together = 0;     ///< of the scanned segments: scanned with other rays' at once
     std::uint64_t fallbacks = 0;    ///< leaf Unknowns redone on the rest of the ray
     std::uint64_t splits = 0;       ///< undecided one-ray leaf segments split in two again
     std::uint64_t prunes = 0;       ///< boxes whose tape was shortened

@@ -305,6 +305,7 @@ TEST(Coherent, HitsAreHalfAPixelDeepAndHoldTheRootOfMathematics) {
                     if (aov == Aov::Shade) {
                         EXPECT_GT(widest, 1e-3) << where;
                         EXPECT_GT(stats.scans, 0u) << where;
+                        EXPECT_GT(stats.together, 0u) << where;  // rays scanned together
                     } else {
                         EXPECT_EQ(stats.scans, 0u) << where;
                     }
@@ -451,7 +452,8 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     o.aspect = *rc::gen::element(0.25, 0.5, 2.0);
     o.mean_value_rays = *rc::gen::element(0u, 4u, 16u, 1000u);
     o.render.threads = *rc::gen::element(1u, 2u);
-    o.depth_pixels = *rc::gen::element(0.0, 0.5, 2.0);  // leaf segments scanned in pieces
+    o.depth_pixels = *rc::gen::element(0.0, 0.5, 2.0);      // leaf segments scanned in pieces
+    o.together_rays = *rc::gen::element(0u, 4u, 16u, 64u);  // several rays' pieces at once
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
     o.certified.budget = 2000;  // the image options otherwise
     const Agreement a = against_per_ray(tape, o);
