@@ -28,6 +28,7 @@
 #include "interval/interval.h"
 #include "solvers/solid.h"
 #include "tracers/parallel.h"
+#include "tracers/segment_box.h"
 
 namespace certray::tracers {
 namespace {
@@ -79,17 +80,6 @@ bool has_choices(const Ssa& list) {
     return std::any_of(list.begin(), list.end(), [](const expr::Instr& in) {
         return in.op == expr::Op::Min || in.op == expr::Op::Max;
     });
-}
-
-/// The box [o] + [a, b]·[d] for origins in [olo, ohi] and directions in [dlo, dhi], rounded
-/// outward (in the walk's upward mode): it holds o + t·d for every such ray and t in [a, b].
-std::array<UpInterval, 3> segment_box(const double* olo, const double* ohi, const double* dlo,
-                                      const double* dhi, double a, double b) {
-    const UpInterval t(a, b);
-    std::array<UpInterval, 3> box;
-    for (int c = 0; c < 3; ++c)
-        box[c] = UpInterval(olo[c], ohi[c]) + t * UpInterval(dlo[c], dhi[c]);
-    return box;
 }
 
 /// A register tape from a list written by prune_ssa (slots in any order): renumbered so that slot
@@ -292,8 +282,7 @@ RayResult Walker::scan(const Ssa& list, const Ray& s) {
     res.status = Status::Miss;
     const auto g = [&](double p, double q) {  // in the walk's upward mode
         ++res.evals.interval;
-        expr::detail::run<UpInterval>(
-            list, segment_box(s.o.data(), s.o.data(), s.d.data(), s.d.data(), p, q), scan_.data());
+        expr::detail::run<UpInterval>(list, ray_box(s, p, q), scan_.data());
         return scan_[list.back().out];
     };
     const auto proven_neg = [](const UpInterval& v) { return v.defined && v.upper() < 0; };
@@ -680,7 +669,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
     for (std::size_t k = 0; k < n; ++k) {
         const Piece& c = pieces_[k];
         const Ray& ray = px(c.i, c.j).ray;
-        lanes_[k] = segment_box(ray.o.data(), ray.o.data(), ray.d.data(), ray.d.data(), c.p, c.q);
+        lanes_[k] = ray_box(ray, c.p, c.q);
     }
     eval_lanes(list, n);
     // Each ray's first piece not proven free (the scan's answer so far), and the points its
@@ -705,10 +694,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         res.t_lo = c.p;
         res.t_hi = level.scanned[ray].s.tmax;
         const Ray& full = px(c.i, c.j).ray;
-        const auto point = [&](double t) {
-            lanes_[n + points++] =
-                segment_box(full.o.data(), full.o.data(), full.d.data(), full.d.data(), t, t);
-        };
+        const auto point = [&](double t) { lanes_[n + points++] = ray_box(full, t, t); };
         if (solid_) {
             if (proven_neg(lane_values_[k])) {
                 res.status = Status::Hit;

@@ -25,7 +25,9 @@
 #include "solvers/certified.h"
 #include "solvers/solid.h"
 #include "tests/support/fp_env.h"
+#include "tests/support/generators.h"
 #include "tests/support/random_dag.h"
+#include "tracers/segment_box.h"
 
 namespace certray::tracers {
 namespace {
@@ -432,6 +434,28 @@ TEST(Coherent, PinholeRaysAreRender3dRays) {
 // Random DAGs under random cameras (pinhole and ortho), random tile sides, split shapes and
 // thread counts: never a contradiction with the per-ray solver; Unknown on one side only where
 // the other decides is allowed, and must stay rare.
+// One ray's box by two products and two sums a bound is the box of the interval arithmetic
+// (segment_box, whose outward rounding the interval suites check), value for value.
+RC_GTEST_PROP(Coherent, RayBoxIsTheSegmentBoxOfOneRay, ()) {
+    Ray ray;
+    for (int c = 0; c < 3; ++c) {
+        ray.o[c] = *testing::gen_finite_double();
+        ray.d[c] = *testing::gen_finite_double();
+    }
+    double p = *testing::gen_finite_double(), q = *testing::gen_finite_double();
+    if (q < p) std::swap(p, q);
+    if (*rc::gen::arbitrary<bool>()) q = p;  // a point, as the scans' point tests use
+    RoundingScope up;
+    const std::array<UpInterval, 3> fast = ray_box(ray, p, q);
+    const std::array<UpInterval, 3> box =
+        segment_box(ray.o.data(), ray.o.data(), ray.d.data(), ray.d.data(), p, q);
+    for (int c = 0; c < 3; ++c) {
+        RC_ASSERT(fast[c].lower() == box[c].lower());
+        RC_ASSERT(fast[c].upper() == box[c].upper());
+        RC_ASSERT(fast[c].defined == box[c].defined);
+    }
+}
+
 RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     const expr::Tape tape(*testing::gen_dag(16));
     CoherentOptions o;
