@@ -158,7 +158,9 @@ class Walker {
     /// all of it: [p, p]; zero: g defined and continuous on [p, q] with g(p), g(q) of strict
     /// opposite signs); otherwise Unknown with t_lo = p, where the solver takes over. A few
     /// evaluations where the solver's Newton steps and bisections would spend about ten.
-    RayResult scan(const Ssa& list, const Ray& s);
+    /// `width`: the pieces' width (0: piece_width(s)), `finer`: how many times an undecided
+    /// piece may still be scanned again in quarters (after_points).
+    RayResult scan(const Ssa& list, const Ray& s, double width = 0, int finer = 2);
     /// The rest of a leaf's work on pixel (i, j) whose segment s (the ray within the node's
     /// [a, b]) got `res`: from scan() when `scanned` (an Unknown there runs the solver from its
     /// t_lo), else from the solver. A Miss proves s free and leaves the pixel open; an Unknown is
@@ -199,7 +201,8 @@ class Walker {
     /// point tests decided (res: Unknown from p): the mean value form in t, tighter on a short
     /// piece than the plain enclosure. Proven free: the scan of the rest [q, s.tmax]; proven
     /// inside (solid): Hit [p, p]; else res.
-    RayResult after_points(const Ssa& list, const Ray& s, double p, double q, RayResult res);
+    RayResult after_points(const Ssa& list, const Ray& s, double p, double q, RayResult res,
+                           int finer = 2);
     /// The certified answer on one ray segment, for the surface asked for.
     RayResult solve(const expr::Tape& tape, const Ray& ray) const {
         return solid_ ? solvers::solid_first_entry(tape, ray, solid_options_)
@@ -274,9 +277,9 @@ class Walker {
     std::vector<expr::IntervalLanes> lane_regs_;  ///< eval_lanes()'s registers
 };
 
-RayResult Walker::scan(const Ssa& list, const Ray& s) {
+RayResult Walker::scan(const Ssa& list, const Ray& s, double width, int finer) {
     if (scan_.size() < list.size()) scan_.resize(list.size());
-    const double w = piece_width(s);
+    const double w = width > 0 ? width : piece_width(s);
     const int n = static_cast<int>(std::ceil((s.tmax - s.tmin) / w));
     RayResult res;
     res.status = Status::Miss;
@@ -316,13 +319,29 @@ RayResult Walker::scan(const Ssa& list, const Ray& s) {
             res.t = 0.5 * res.t_lo + 0.5 * res.t_hi;
             return res;
         }
-        return after_points(list, s, p, q, res);
+        return after_points(list, s, p, q, res, finer);
     }
     return res;
 }
 
-RayResult Walker::after_points(const Ssa& list, const Ray& s, double p, double q, RayResult res) {
-    const Proof again = piece_mean_value(list, s, p, q, res);
+RayResult Walker::after_points(const Ssa& list, const Ray& s, double p, double q, RayResult res,
+                               int finer) {
+    Proof again = piece_mean_value(list, s, p, q, res);
+    if (again == Proof::None && finer > 0) {
+        // Scanned again in quarters: a Hit or an Unknown there is the answer (the segment is
+        // free before p); a Miss proves [p, q] free.
+        Ray piece = s;
+        piece.tmin = p;
+        piece.tmax = q;
+        RayResult fine = scan(list, piece, 0.25 * (q - p), finer - 1);
+        fine.evals += res.evals;
+        if (fine.status != Status::Miss) {
+            if (fine.status == Status::Unknown) fine.t_hi = s.tmax;
+            return fine;
+        }
+        res.evals = fine.evals;
+        again = Proof::Excluded;
+    }
     if (again == Proof::Excluded) {  // [tmin, q] is free: the rest is scanned afresh
         RayResult rest;
         rest.status = Status::Miss;
