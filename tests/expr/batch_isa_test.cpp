@@ -26,6 +26,7 @@
 #include "expr/graph.h"
 #include "expr/prune.h"
 #include "expr/tape.h"
+#include "tests/support/batch_isa.h"
 #include "tests/support/generators.h"
 #include "tests/support/random_dag.h"
 
@@ -41,24 +42,8 @@ bool same(double a, double b) {
            std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
 }
 
-/// The copies this CPU runs.
-std::vector<BatchIsa> isas() {
-    std::vector<BatchIsa> v;
-    for (BatchIsa isa : {BatchIsa::Baseline, BatchIsa::Avx2, BatchIsa::Avx512}) {
-        if (batch_isa_supported(isa)) v.push_back(isa);
-    }
-    return v;
-}
-
-/// Restores the copy chosen at start-up when a test ends.
-class IsaGuard {
-  public:
-    IsaGuard() : saved_(batch_isa()) {}
-    ~IsaGuard() { set_batch_isa(saved_); }
-
-  private:
-    BatchIsa saved_;
-};
+using testing::batch_isas;
+using IsaGuard = testing::BatchIsaGuard;
 
 /// The lanes of `tape` at p under every copy, each against eval<double> at that lane. Returns
 /// a description of the first mismatch, or "" when all lanes of all copies agree.
@@ -67,7 +52,7 @@ std::string mismatch(const Tape& tape, const std::array<Batch, 3>& p) {
     Evaluator<double> ed;
     std::array<double, kBatch> want{};
     for (int i = 0; i < kBatch; ++i) want[i] = ed(tape, {p[0][i], p[1][i], p[2][i]});
-    for (BatchIsa isa : isas()) {
+    for (BatchIsa isa : batch_isas()) {
         set_batch_isa(isa);
         Evaluator<Batch> eb;
         const Batch r = eb(tape, p);
@@ -115,7 +100,7 @@ std::vector<std::array<Batch, 3>> special_pairs() {
 TEST(BatchIsa, ControlsTheCopy) {
     IsaGuard guard;
     EXPECT_TRUE(batch_isa_supported(BatchIsa::Baseline));
-    for (BatchIsa isa : isas()) {
+    for (BatchIsa isa : batch_isas()) {
         EXPECT_TRUE(set_batch_isa(isa));
         EXPECT_EQ(batch_isa(), isa);
     }
@@ -328,7 +313,7 @@ RC_GTEST_PROP(BatchIsaProperty, SsaListsMatchDoubleOnEveryCopy, ()) {
     std::vector<Batch> slots(ssa.size());
     // All lanes, then only the first half (the walk the quadtree's 8×8 leaves use).
     for (const int lanes : {-1, kBatch / 2}) {
-        for (BatchIsa isa : isas()) {
+        for (BatchIsa isa : batch_isas()) {
             set_batch_isa(isa);
             detail::run_batch(ssa.data(), ssa.data() + ssa.size(), p.data(), slots.data(), lanes);
             for (int i = 0; i < (lanes < 0 ? kBatch : lanes); ++i) {

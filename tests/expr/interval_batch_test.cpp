@@ -30,6 +30,7 @@
 #include "expr/graph.h"
 #include "expr/prune.h"
 #include "expr/tape.h"
+#include "tests/support/batch_isa.h"
 #include "tests/support/generators.h"
 #include "tests/support/random_dag.h"
 
@@ -55,24 +56,8 @@ std::string show(const UpInterval& v) {
     return os.str();
 }
 
-/// The copies this CPU runs.
-std::vector<BatchIsa> isas() {
-    std::vector<BatchIsa> v;
-    for (BatchIsa isa : {BatchIsa::Baseline, BatchIsa::Avx2, BatchIsa::Avx512}) {
-        if (batch_isa_supported(isa)) v.push_back(isa);
-    }
-    return v;
-}
-
-/// Restores the copy chosen at start-up when a test ends.
-class IsaGuard {
-  public:
-    IsaGuard() : saved_(batch_isa()) {}
-    ~IsaGuard() { set_batch_isa(saved_); }
-
-  private:
-    BatchIsa saved_;
-};
+using testing::batch_isas;
+using IsaGuard = testing::BatchIsaGuard;
 
 /// One box per lane.
 using Boxes = std::vector<std::array<UpInterval, 3>>;
@@ -100,7 +85,7 @@ std::string mismatch(const std::vector<Instr>& list, const Boxes& boxes) {
     }
     IsaGuard guard;
     std::vector<IntervalLanes> r(registers);
-    for (BatchIsa isa : isas()) {
+    for (BatchIsa isa : batch_isas()) {
         set_batch_isa(isa);
         // Stale values in every register, so that a lane the walk forgets to write shows.
         for (IntervalLanes& reg : r) {
