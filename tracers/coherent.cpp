@@ -18,6 +18,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "expr/derived.h"
@@ -80,6 +81,17 @@ bool has_choices(const Ssa& list) {
     return std::any_of(list.begin(), list.end(), [](const expr::Instr& in) {
         return in.op == expr::Op::Min || in.op == expr::Op::Max;
     });
+}
+
+/// How many pieces w wide a scan cuts segment s into.
+int pieces_of(const Ray& s, double w) { return static_cast<int>(std::ceil((s.tmax - s.tmin) / w)); }
+
+/// Piece k of the n pieces of segment s, w wide, front to back (the last one ends at s.tmax); it
+/// may be empty (lo ≥ hi) where rounding left nothing for it.
+std::pair<double, double> piece(const Ray& s, double w, int k, int n) {
+    const double lo = k == 0 ? s.tmin : std::min(s.tmax, s.tmin + k * w);
+    const double hi = k + 1 == n ? s.tmax : std::min(s.tmax, s.tmin + (k + 1) * w);
+    return {lo, hi};
 }
 
 /// A register tape from a list written by prune_ssa (slots in any order): renumbered so that slot
@@ -280,7 +292,7 @@ class Walker {
 RayResult Walker::scan(const Ssa& list, const Ray& s, double width, int finer) {
     if (scan_.size() < list.size()) scan_.resize(list.size());
     const double w = width > 0 ? width : piece_width(s);
-    const int n = static_cast<int>(std::ceil((s.tmax - s.tmin) / w));
+    const int n = pieces_of(s, w);
     RayResult res;
     res.status = Status::Miss;
     const auto g = [&](double p, double q) {  // in the walk's upward mode
@@ -291,8 +303,7 @@ RayResult Walker::scan(const Ssa& list, const Ray& s, double width, int finer) {
     const auto proven_neg = [](const UpInterval& v) { return v.defined && v.upper() < 0; };
     const auto proven_pos = [](const UpInterval& v) { return v.defined && v.lower() > 0; };
     for (int k = 0; k < n; ++k) {
-        const double p = k == 0 ? s.tmin : std::min(s.tmax, s.tmin + k * w);
-        const double q = k + 1 == n ? s.tmax : std::min(s.tmax, s.tmin + (k + 1) * w);
+        const auto [p, q] = piece(s, w, k, n);
         if (!(p < q)) continue;
         const UpInterval v = g(p, q);
         if (proof(v) == Proof::Excluded) continue;
@@ -671,10 +682,9 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
             s.tmax = std::min(b, p.ray.tmax);
             const double w = piece_width(s);
             if (!(w > 0 && s.tmax - s.tmin <= kMaxPieces * w)) return false;
-            const int n = static_cast<int>(std::ceil((s.tmax - s.tmin) / w));
+            const int n = pieces_of(s, w);
             for (int k = 0; k < n; ++k) {
-                const double lo = k == 0 ? s.tmin : std::min(s.tmax, s.tmin + k * w);
-                const double hi = k + 1 == n ? s.tmax : std::min(s.tmax, s.tmin + (k + 1) * w);
+                const auto [lo, hi] = piece(s, w, k, n);
                 if (lo < hi) pieces_.push_back({i, j, lo, hi});
             }
             RayResult res;
