@@ -42,8 +42,11 @@ namespace certray::tracers {
 
 /// The budget of a RegionTapes.
 struct RegionOptions {
-    /// Deepest level (the root cell is level 0), reached lazily below `eager_depth`.
-    int max_depth = 6;
+    /// Deepest level (the root cell is level 0), reached lazily below `eager_depth` or where the
+    /// eager budget ran out. 4 measured best on the molecule under the instruction budget (5 as
+    /// fast with twice the memory, 6 slower: its budget spent on cells the rays meet once;
+    /// docs/benchmarks.md, "Region tapes near the rays").
+    int max_depth = 4;
     /// Levels built by the constructor (within `eager_instructions`); deeper ones on demand.
     int eager_depth = 4;
     /// Most cells in the tree.
