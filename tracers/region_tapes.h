@@ -16,8 +16,9 @@
 // whose tape is not shorter than its parent's is not kept (the query stops at the parent), nor is
 // a cell with a tape of at most `min_split` instructions split: a model without min/max (a
 // polynomial) keeps one cell. The constructor builds it to `eager_depth` (breadth first, while the
-// stored instructions stay within `eager_instructions`); a deeper child is built when at() first
-// needs it (the query box lies in the child's inflated cell), by the calling thread, and published
+// stored instructions stay within `eager_instructions`); a child it did not build (deeper, or
+// refused by that budget) is built when at() first needs it (the query box lies in the child's
+// inflated cell), by the calling thread, and published
 // once complete: other threads that need the same child wait for it, so no reader ever sees a
 // half-built cell. Within the budget (`max_cells`, `max_instructions`) at(box) is therefore a
 // function of the box alone, whatever the order or the threads of the queries; once the budget is
