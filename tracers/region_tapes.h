@@ -13,16 +13,17 @@
 // bounded and defined (expr/prune.h).
 //
 // The tree is the one that splitting every cell would give, to `max_depth`, except that a child
-// whose tape is not shorter than its parent's is not kept (the query stops at the parent), nor is
-// a cell with a tape of at most `min_split` instructions split: a model without min/max (a
-// polynomial) keeps one cell. The constructor builds it to `eager_depth` (breadth first, while the
-// stored instructions stay within `eager_instructions`); a child it did not build (deeper, or
-// refused by that budget) is built when at() first needs it (the query box lies in the child's
-// inflated cell), by the calling thread, and published
-// once complete: other threads that need the same child wait for it, so no reader ever sees a
-// half-built cell. Within the budget (`max_cells`, `max_instructions`) at(box) is therefore a
-// function of the box alone, whatever the order or the threads of the queries; once the budget is
-// spent no further cell is built and at() returns the deepest cell built (the same real function).
+// whose tape is not shorter than its parent's is kept (on its parent's tape) at most two levels
+// in a row, and a cell whose tape has at most `min_split` instructions or no choice (min, max,
+// and, or) is not split: a model without min/max (a polynomial) keeps one cell. The constructor
+// builds the tree to `eager_depth` (breadth first, while the stored instructions stay within
+// `eager_instructions`); a child it did not build (deeper, or refused by that budget) is built
+// when at() first needs it (the query box lies in the child's inflated cell), by the calling
+// thread, and published once complete: other threads that need the same child wait for it, so no
+// reader ever sees a half-built cell. Within the budget (`max_cells`, `max_instructions`) at(box)
+// is therefore a function of the box alone, whatever the order or the threads of the queries;
+// once the budget is spent no further cell is built and at() returns the deepest cell built (the
+// same real function).
 // Cells are never freed before the RegionTapes: a returned tape lives as long as it.
 // Reference: Fidget's and libfive's per-region tape shortening (docs/theory/tape.md);
 // docs/theory/sphere_tracing.md ("Region-pruned tapes").
