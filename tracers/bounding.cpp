@@ -2,6 +2,7 @@
 #include "tracers/bounding.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -115,10 +116,27 @@ BoundedScene::BoundedScene(const expr::Tape& tape, const Box& bounds,
     // the leaves are in place (a RegionTapes refers to its leaf's tape).
     for (Leaf& l : leaves_) {
         if (l.tape.size() > kRegionTapesAbove) {
-            l.regions = std::make_unique<RegionTapes>(l.tape, bounds_);
+            l.regions = std::make_shared<const RegionTapes>(l.tape, bounds_);
         }
     }
-    if (tape_.size() > kRegionTapesAbove) regions_ = std::make_unique<RegionTapes>(tape_, bounds_);
+    // f itself as its only leaf (a smooth union is not a min): the leaf's cells serve f's queries
+    // too, built and stored once.
+    auto same = [](const expr::Tape& a, const expr::Tape& b) {
+        if (a.size() != b.size()) return false;
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            const expr::Instr &x = a.ssa()[i], &y = b.ssa()[i];
+            if (x.op != y.op || x.a != y.a || x.b != y.b ||
+                std::bit_cast<std::uint64_t>(x.imm) != std::bit_cast<std::uint64_t>(y.imm)) {
+                return false;
+            }
+        }
+        return true;
+    };
+    if (leaves_.size() == 1 && leaves_[0].regions && same(leaves_[0].tape, tape_)) {
+        regions_ = leaves_[0].regions;
+    } else if (tape_.size() > kRegionTapesAbove) {
+        regions_ = std::make_shared<const RegionTapes>(tape_, bounds_);
+    }
     build_seconds_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

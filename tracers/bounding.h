@@ -116,7 +116,7 @@ class BoundedScene {
         expr::Tape tape;
         double lambda = 0;
         /// The leaf's region-pruned tapes when its tape is long (kRegionTapesAbove), else null.
-        std::unique_ptr<RegionTapes> regions;
+        std::shared_ptr<const RegionTapes> regions;
     };
 
     std::uint32_t build(const expr::Graph& g, expr::NodeId id, int nesting);
@@ -136,7 +136,7 @@ class BoundedScene {
     std::vector<Node> nodes_;
     std::vector<Leaf> leaves_;
     std::uint32_t root_ = 0;
-    std::unique_ptr<RegionTapes> regions_;
+    std::shared_ptr<const RegionTapes> regions_;  // the only leaf's, when that leaf is f
     double build_seconds_ = 0;
 };
 

@@ -1,16 +1,21 @@
 // tests/tracers/region_tapes_test.cpp — region-pruned tapes (tracers/region_tapes.h): the tape
-// at a point is f there, bit for bit in double, on a min/max-heavy scene; an enclosure over a box
-// on its region's tape lies in the full tape's; and every approximate tracer, which now evaluates
-// on those tapes, answers a sphere union whose first roots are known by hand.
+// at a point is f there, bit for bit in double, on a min/max-heavy scene (eagerly and lazily built
+// cells); an enclosure over a box on its region's tape lies in the full tape's; cells built on
+// demand, from one thread or several at once, are the eager tree's; the budget holds; and every
+// approximate tracer, which now evaluates on those tapes, answers a sphere union whose first roots
+// are known by hand.
 #include "tracers/region_tapes.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <random>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "expr/eval.h"
 #include "expr/parser.h"
@@ -104,6 +109,157 @@ TEST(RegionTapes, EnclosuresOverBoxesLieInTheFullTapesAndPointsOutsideUseTheFull
         }
     }
     EXPECT_EQ(&regions.at(std::array<double, 3>{3.0, 0.0, 0.0}), &tape);
+}
+
+/// Options that build the tree to `depth` up front (eager) or nothing below the root (lazy), with
+/// budgets that the test scene does not reach.
+RegionOptions tree_options(int depth, bool eager) {
+    RegionOptions o;
+    o.max_depth = depth;
+    o.eager_depth = eager ? depth : 0;
+    o.max_cells = std::size_t{1} << 20;
+    o.max_instructions = o.eager_instructions = std::size_t{1} << 30;
+    return o;
+}
+
+bool same_list(const Tape& a, const Tape& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const expr::Instr &x = a.ssa()[i], &y = b.ssa()[i];
+        if (x.op != y.op || x.a != y.a || x.b != y.b || !same_bits(x.imm, y.imm)) return false;
+    }
+    return true;
+}
+
+/// Random query boxes over kBounds (and a little beyond): points, and boxes from 2⁻¹² to 1 wide.
+std::vector<Box> random_queries(std::uint64_t seed, int n) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> coord(-2.1, 2.1), unit(0.0, 1.0);
+    std::vector<Box> q(n);
+    for (Box& b : q) {
+        const bool point = unit(rng) < 0.5;
+        const double w = point ? 0.0 : std::ldexp(1.0, -static_cast<int>(12 * unit(rng)));
+        for (int i = 0; i < 3; ++i) {
+            const double a = coord(rng);
+            b[i] = Interval(a, a + w);
+        }
+    }
+    return q;
+}
+
+TEST(RegionTapes, LazilyBuiltCellsAreTheEagerTreesCells) {
+    const Tape tape(expr::parse_expr(scene_text()));
+    const RegionTapes eager(tape, kBounds, tree_options(5, true));
+    const RegionTapes lazy(tape, kBounds, tree_options(5, false));
+    ASSERT_EQ(lazy.stats().cells, 1u);  // nothing below the root yet
+    const RegionStats before = eager.stats();
+    int deeper = 0;
+    for (const Box& q : random_queries(11, 4000)) {
+        const Tape &want = eager.at(q), &got = lazy.at(q);
+        deeper += got.size() < lazy.tape().size();
+        ASSERT_TRUE(same_list(want, got))
+            << "query box at (" << q[0].lower() << ", " << q[1].lower() << ", " << q[2].lower()
+            << ") width " << width(q[0]) << ": eager " << want.size() << " instructions, lazy "
+            << got.size();
+    }
+    EXPECT_GT(deeper, 2000);
+    const RegionStats st = lazy.stats();
+    EXPECT_GT(st.lazy_cells, 100u);
+    EXPECT_EQ(st.lazy_cells + 1, st.cells);
+    EXPECT_LT(st.cells, before.cells);             // only the cells the queries needed
+    EXPECT_EQ(eager.stats().cells, before.cells);  // the eager tree had every cell already
+    EXPECT_EQ(eager.stats().lazy_cells, 0u);
+}
+
+TEST(RegionTapes, LazilyBuiltDeepCellsEqualTheFullTapeAtRandomPoints) {
+    const Tape tape(expr::parse_expr(scene_text()));
+    const RegionTapes regions(tape, kBounds, tree_options(7, false));
+    std::mt19937_64 rng(20261125);
+    std::uniform_int_distribution<int> level_of(3, 8);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    expr::Evaluator<double> full_eval, region_eval;
+    expr::Evaluator<Interval> full_box, region_box;
+    for (int cell = 0; cell < 300; ++cell) {
+        const int level = level_of(rng);
+        const double side = 4.0 / (1 << level);
+        Box c;
+        for (int i = 0; i < 3; ++i) {
+            const double lo = -2 + side * std::floor(unit(rng) * (1 << level));
+            c[i] = Interval(lo, lo + side);
+        }
+        // The cell's own box: its enclosure on the region tape lies in the full tape's.
+        const Tape& tc = regions.at(c);
+        const Interval want = full_box(tape, c), got = region_box(tc, c);
+        EXPECT_TRUE(want.lower() <= got.lower() && got.upper() <= want.upper());
+        for (int k = 0; k < 20; ++k) {
+            std::array<double, 3> p;
+            for (int i = 0; i < 3; ++i) p[i] = c[i].lower() + side * unit(rng);
+            const Tape& t = regions.at(p);
+            const double f = full_eval(tape, p), g = region_eval(t, p);
+            ASSERT_TRUE(same_bits(f, g))
+                << "at (" << p[0] << ", " << p[1] << ", " << p[2] << "): full " << f
+                << ", region tape (" << t.size() << " instructions) " << g;
+        }
+    }
+    const RegionStats st = regions.stats();
+    EXPECT_EQ(st.depth, 7);  // the points reached the deepest level
+    EXPECT_LT(st.mean_leaf_instructions, tape.size());
+}
+
+TEST(RegionTapes, ThreadsQueryingAtOnceBuildOneTree) {
+    // Four threads ask the same queries of one lazy tree in different orders (each child is
+    // built by one of them, the others waiting for it): every answer is the eager tree's, the
+    // same cell's tape for every thread, and equal to f at the points.
+    const Tape tape(expr::parse_expr(scene_text()));
+    const RegionTapes eager(tape, kBounds, tree_options(6, true));
+    const RegionTapes lazy(tape, kBounds, tree_options(6, false));
+    const std::vector<Box> queries = random_queries(5, 3000);
+    constexpr int kThreads = 4;
+    std::vector<std::vector<const Tape*>> got(kThreads, std::vector<const Tape*>(queries.size()));
+    std::vector<int> wrong(kThreads, 0);
+    std::vector<std::thread> threads;
+    for (int k = 0; k < kThreads; ++k) {
+        threads.emplace_back([&, k] {
+            expr::Evaluator<double> full_eval, region_eval;
+            std::vector<std::size_t> order(queries.size());
+            for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+            std::shuffle(order.begin(), order.end(), std::mt19937_64(k));
+            for (std::size_t i : order) {
+                const Tape& t = lazy.at(queries[i]);
+                got[k][i] = &t;
+                const std::array<double, 3> p{queries[i][0].lower(), queries[i][1].lower(),
+                                              queries[i][2].lower()};
+                wrong[k] += !same_bits(full_eval(tape, p), region_eval(t, p));
+            }
+        });
+    }
+    for (std::thread& t : threads) t.join();
+    for (int k = 0; k < kThreads; ++k) {
+        EXPECT_EQ(wrong[k], 0) << "thread " << k;
+        for (std::size_t i = 0; i < queries.size(); ++i) {
+            ASSERT_EQ(got[k][i], got[0][i]) << "query " << i << ", thread " << k;
+            ASSERT_TRUE(same_list(*got[k][i], eager.at(queries[i]))) << "query " << i;
+        }
+    }
+    EXPECT_GT(lazy.stats().lazy_cells, 100u);
+}
+
+TEST(RegionTapes, BudgetBoundsTheStoredInstructions) {
+    const Tape tape(expr::parse_expr(scene_text()));
+    RegionOptions o = tree_options(7, false);
+    o.max_instructions = 20 * tape.size();
+    o.max_cells = 300;
+    const RegionTapes regions(tape, kBounds, o);
+    expr::Evaluator<double> full_eval, region_eval;
+    for (const Box& q : random_queries(3, 5000)) {
+        const Tape& t = regions.at(q);
+        const std::array<double, 3> p{q[0].lower(), q[1].lower(), q[2].lower()};
+        ASSERT_TRUE(same_bits(full_eval(tape, p), region_eval(t, p)));
+    }
+    const RegionStats st = regions.stats();
+    EXPECT_LE(st.instructions, o.max_instructions);
+    EXPECT_LE(st.cells, o.max_cells);
+    EXPECT_GT(st.cells, 20u);  // it did build until the budget ran out
 }
 
 TEST(RegionTapes, PolynomialKeepsOneCell) {
