@@ -359,6 +359,11 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
                      "--eye, --target, --up or --fov\n";
         return 2;
     }
+    if (rs.ortho && o.per_ray) {
+        std::cerr << "certray render: --camera ortho is drawn by the coherent certified renderer "
+                     "only: drop --per-ray, or use the pinhole camera for one solve per pixel\n";
+        return 2;
+    }
     if (rs.ortho && tracers::method_info(method).name != "certified") {
         std::cerr << "certray render: --camera ortho is drawn by the coherent certified renderer: "
                      "use --method certified\n";

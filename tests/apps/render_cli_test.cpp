@@ -135,6 +135,8 @@ TEST_F(RenderCli, SurfaceAndOrthographicCamera) {
     EXPECT_TRUE(std::isnan(depth[0]));  // the corner ray passes beside the sphere
     EXPECT_EQ(run("render sphere.expr -o o.png --camera ortho --method sphere"), 2);
     EXPECT_EQ(run("render sphere.expr -o o.png --camera ortho --eye 0 0 5"), 2);
+    EXPECT_EQ(run("render sphere.expr -o o.png --camera ortho --per-ray"), 2);  // not ignored
+    EXPECT_NE(err_.find("--per-ray"), std::string::npos) << err_;
     EXPECT_EQ(run("render sphere.expr -o o.png --surface hollow"), 2);
 }
 
