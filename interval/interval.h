@@ -136,9 +136,14 @@ struct X86RoundingControl {
         write(canonical(rc), now);
     }
     static void get_rounding_mode(rounding_mode& mode) { mode = current(); }
+    /// Restores `mode` (Boost's save_state): MXCSR always, the x87 word only where it differs
+    /// from the current one (it is canonical in every scope, so only a host's own word is ever
+    /// written back; fldcw is serialising).
     static void set_rounding_mode(const rounding_mode& mode) {
         asm volatile("ldmxcsr %0" : : "m"(mode.mxcsr) : "memory");
-        asm volatile("fldcw %0" : : "m"(mode.x87) : "memory");
+        unsigned short x87;
+        asm volatile("fnstcw %0" : "=m"(x87));
+        if (x87 != mode.x87) asm volatile("fldcw %0" : : "m"(mode.x87) : "memory");
     }
     static void to_nearest() { set(0); }
     static void downward() { set(1); }
