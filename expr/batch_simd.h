@@ -1,4 +1,5 @@
-// expr/batch_simd.h — internal to the batch walk (eval_batch.cpp): one vector type per instruction
+// expr/batch_simd.h — internal to the batch walks (eval_batch.cpp, and through
+// expr/interval_batch_simd.h eval_interval_batch.cpp): one vector type per instruction
 // set, and libm lane by lane.
 //
 // Contract: each type gives R (a register of kWidth doubles), load/store (unaligned), set1, the
@@ -27,7 +28,7 @@
 #endif
 
 namespace certray::expr::detail {
-// Internal linkage, as if written in eval_batch.cpp, the one file that includes this header: the
+// Internal linkage, as if written in each file that includes this header (the two walks): the
 // AVX types' functions must never be shared with (or taken from) code built for another target.
 namespace {
 

@@ -34,6 +34,10 @@
 #include "expr/eval_batch.h"
 #include "expr/interval_batch_simd.h"
 
+#ifndef CERTRAY_BATCH_X86  // an undefined name in #if would silently select the scalar walk
+#error "expr/batch_simd.h must define CERTRAY_BATCH_X86"
+#endif
+
 namespace certray::expr {
 namespace detail {
 namespace {
@@ -129,7 +133,7 @@ using certray::detail::opaque;
     for (int i = 0; i < n; ++i) set_lane(o, i, scalar_op(in, lane(a, i), lane(b, i)));
 }
 
-#if CERTRAY_IBATCH_X86
+#if CERTRAY_BATCH_X86
 /// The lanes k + j (j a bit of `slow`) of instruction `in` with the scalar operation, into lo[j]
 /// and hi[j]; returns their decorations as bits j. The output register is not written.
 [[gnu::noinline]] unsigned scalar_chunk(const Instr& in, const Lanes& a, const Lanes& b, int k,
@@ -247,7 +251,7 @@ UpInterval exp_log_lane(bool is_exp, const Lanes& a, int k, double fa, double fb
     }
 }
 
-#if CERTRAY_IBATCH_X86
+#if CERTRAY_BATCH_X86
 
 // ---- the vector kernels -------------------------------------------------------------------------
 
@@ -504,7 +508,7 @@ void walk_portable(const Instr* in, const Instr* const end, const Lanes* p, Lane
 void run_interval_batch(const Instr* begin, const Instr* end, const IntervalLanes* p,
                         IntervalLanes* r, int n) {
     assert(n >= 1 && n <= kIntervalLanes);
-#if CERTRAY_IBATCH_X86
+#if CERTRAY_BATCH_X86
     detail::walk_for(batch_isa())(begin, end, p, r, n);
 #else
     detail::walk_portable(begin, end, p, r, n);

@@ -1,50 +1,26 @@
 // expr/interval_batch_simd.h — internal to the interval batch walk (eval_interval_batch.cpp): one
 // vector type per instruction set, with the operations the UpInterval kernels are made of.
 //
-// Contract: each type gives R (kWidth doubles), M (a mask of kWidth lanes), aligned load/store,
-// set1, the IEEE + − × ÷ √ (rounded in the current MXCSR mode, as the scalar SSE instructions of
-// the kernels are), neg (sign flip), max and min with the x86 instruction's rule — max(a, b) = (a >
-// b) ? a : b, min(a, b) = (a < b) ? a : b, NaN and equal operands giving b, exactly interval.h's
-// max2/min2 and the MAXPD of its two-lane product kernel — ordered comparisons (false for NaN),
-// and/or of masks, select, the mask as kWidth bits, and prev (the double whose bits are one less).
-// The AVX types' functions carry target attributes: they inline only into functions compiled
-// for that target (no -march anywhere), as in expr/batch_simd.h.
+// Contract: each type is expr/batch_simd.h's type of its instruction set (R, kWidth, load/store,
+// set1, the IEEE + − × ÷ √ rounded in the current MXCSR mode, as the scalar SSE instructions of
+// the kernels are, neg), with max and min by the x86 instruction's rule instead of Batch's — max(a,
+// b) = (a > b) ? a : b, min(a, b) = (a < b) ? a : b, NaN and equal operands giving b, exactly
+// interval.h's max2/min2 and the MAXPD of its two-lane product kernel — and M (a mask of kWidth
+// lanes), ordered comparisons (false for NaN), and/or of masks, select, the mask as kWidth bits,
+// and prev (the double whose bits are one less). The AVX types' functions carry target
+// attributes: they inline only into functions compiled for that target (no -march anywhere).
 #pragma once
 
-#include <limits>
-
-// V's AVX types appear in generic templates before they are inlined into their AVX wrappers.
-#pragma GCC diagnostic ignored "-Wpsabi"
-// GCC 12 flags the deliberately undefined registers inside its own AVX-512 intrinsics.
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#pragma GCC diagnostic ignored "-Wuninitialized"
-
-#if defined(__x86_64__) && defined(__GNUC__)
-#define CERTRAY_IBATCH_X86 1
-#include <immintrin.h>
-#else
-#define CERTRAY_IBATCH_X86 0
-#endif
+#include "expr/batch_simd.h"
 
 namespace certray::expr::detail {
 // Internal linkage, as if written in eval_interval_batch.cpp, the one file that includes this
 // header: the AVX types' functions must never be shared with code built for another target.
 namespace {
 
-#if CERTRAY_IBATCH_X86
-struct IvSse2 {
-    using R = __m128d;
+#if CERTRAY_BATCH_X86
+struct IvSse2 : Sse2 {
     using M = __m128d;
-    static constexpr int kWidth = 2;
-    static R load(const double* p) { return _mm_load_pd(p); }
-    static void store(double* p, R x) { _mm_store_pd(p, x); }
-    static R set1(double c) { return _mm_set1_pd(c); }
-    static R add(R a, R b) { return _mm_add_pd(a, b); }
-    static R sub(R a, R b) { return _mm_sub_pd(a, b); }
-    static R mul(R a, R b) { return _mm_mul_pd(a, b); }
-    static R div(R a, R b) { return _mm_div_pd(a, b); }
-    static R sqrt(R a) { return _mm_sqrt_pd(a); }
-    static R neg(R a) { return _mm_xor_pd(a, _mm_set1_pd(-0.0)); }
     static R max(R a, R b) { return _mm_max_pd(a, b); }
     static R min(R a, R b) { return _mm_min_pd(a, b); }
     static R prev(R a) {
@@ -61,19 +37,8 @@ struct IvSse2 {
 };
 
 #define CERTRAY_AVX2 [[gnu::target("avx2")]]
-struct IvAvx2 {
-    using R = __m256d;
+struct IvAvx2 : Avx2 {
     using M = __m256d;
-    static constexpr int kWidth = 4;
-    CERTRAY_AVX2 static R load(const double* p) { return _mm256_load_pd(p); }
-    CERTRAY_AVX2 static void store(double* p, R x) { _mm256_store_pd(p, x); }
-    CERTRAY_AVX2 static R set1(double c) { return _mm256_set1_pd(c); }
-    CERTRAY_AVX2 static R add(R a, R b) { return _mm256_add_pd(a, b); }
-    CERTRAY_AVX2 static R sub(R a, R b) { return _mm256_sub_pd(a, b); }
-    CERTRAY_AVX2 static R mul(R a, R b) { return _mm256_mul_pd(a, b); }
-    CERTRAY_AVX2 static R div(R a, R b) { return _mm256_div_pd(a, b); }
-    CERTRAY_AVX2 static R sqrt(R a) { return _mm256_sqrt_pd(a); }
-    CERTRAY_AVX2 static R neg(R a) { return _mm256_xor_pd(a, _mm256_set1_pd(-0.0)); }
     CERTRAY_AVX2 static R max(R a, R b) { return _mm256_max_pd(a, b); }
     CERTRAY_AVX2 static R min(R a, R b) { return _mm256_min_pd(a, b); }
     CERTRAY_AVX2 static R prev(R a) {
@@ -91,22 +56,8 @@ struct IvAvx2 {
 #undef CERTRAY_AVX2
 
 #define CERTRAY_AVX512 [[gnu::target("avx512f")]]
-struct IvAvx512 {
-    using R = __m512d;
+struct IvAvx512 : Avx512 {
     using M = __mmask8;
-    static constexpr int kWidth = 8;
-    CERTRAY_AVX512 static R load(const double* p) { return _mm512_load_pd(p); }
-    CERTRAY_AVX512 static void store(double* p, R x) { _mm512_store_pd(p, x); }
-    CERTRAY_AVX512 static R set1(double c) { return _mm512_set1_pd(c); }
-    CERTRAY_AVX512 static R add(R a, R b) { return _mm512_add_pd(a, b); }
-    CERTRAY_AVX512 static R sub(R a, R b) { return _mm512_sub_pd(a, b); }
-    CERTRAY_AVX512 static R mul(R a, R b) { return _mm512_mul_pd(a, b); }
-    CERTRAY_AVX512 static R div(R a, R b) { return _mm512_div_pd(a, b); }
-    CERTRAY_AVX512 static R sqrt(R a) { return _mm512_sqrt_pd(a); }
-    CERTRAY_AVX512 static R neg(R a) {  // AVX-512F has no FP xor: the integer one
-        const __m512i s = _mm512_set1_epi64(static_cast<long long>(0x8000000000000000ull));
-        return _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(a), s));
-    }
     CERTRAY_AVX512 static R max(R a, R b) { return _mm512_max_pd(a, b); }
     CERTRAY_AVX512 static R min(R a, R b) { return _mm512_min_pd(a, b); }
     CERTRAY_AVX512 static R prev(R a) {
