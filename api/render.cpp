@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "interval/interval.h"
+#include "tracers/cone.h"
 
 namespace certray {
 
@@ -97,6 +98,14 @@ tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {
             "certified");
     }
     const tracers::RayFunction fn = tracers::make_method(s.method, scene.tape(), mo);
+    std::optional<tracers::ConeMarch> cone;
+    if (info.cone && s.coherent) {
+        NearestScope env;
+        tracers::ConeOptions copt;
+        copt.epsilon = mo.epsilon;
+        cone.emplace(scene.tape(), ro.bounds, copt);
+        ro.cone = &*cone;
+    }
     return tracers::render_3d(scene.tape(), fn, ro);
 }
 

@@ -189,9 +189,9 @@ int main(int argc, char** argv) {
             "setting of libfive's and Fidget's 3D timings; method certified, either surface)")
         ->check(CLI::IsMember({"pinhole", "ortho"}));
     cmd_render->add_flag("--per-ray", render.per_ray,
-                         "Certified images by one independent ray per pixel instead of the "
-                         "coherent renderer (the same meaning; for comparison; pinhole camera "
-                         "only)");
+                         "One independent ray per pixel from the camera: certified without the "
+                         "coherent renderer, sphere, enhanced and bvh without the cone march of "
+                         "each tile (the same meaning; for comparison; pinhole camera only)");
     cmd_render->add_option("--eye", render.eye, "Camera position X Y Z (default: auto-framed)")
         ->expected(3);
     cmd_render->add_option("--target", render.target, "Point the camera looks at, X Y Z")

@@ -148,7 +148,13 @@ RayFunction make_lipschitz_tracer(const expr::Tape& tape, const MethodOptions& o
         RayResult res;
         res.status = Status::Unknown;
         res.t_lo = ray.tmin;
-        if (std::isfinite(lambda) && lambda > 0) res = trace(*regions, ray, lambda, topt);
+        if (std::isfinite(lambda) && lambda > 0) {
+            // Half the budget at most: a ray that crawls along a surface it grazes (free radii
+            // far above epsilon, far below the distance left) goes on by segment tracing.
+            TraceOptions first = topt;
+            first.budget = std::max<std::uint64_t>(1, topt.budget / 2);
+            res = trace(*regions, ray, lambda, first);
+        }
         res.evals.gradient += extra;
         return segments_after(tape, ray, res, topt, deadline);
     };
@@ -195,7 +201,8 @@ const std::vector<Entry>& entries() {
           true,
           "interval bisection with interval Newton (Snyder 1992)",
           {"budget", "tighten"},
-          {{"budget", {30, 100, 1000, 20000}}}},
+          {{"budget", {30, 100, 1000, 20000}}},
+          false},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_certified(tape, o, false);
          }},
@@ -205,7 +212,8 @@ const std::vector<Entry>& entries() {
           "intersected with the affine form of g in t (tighter on long segments; one more "
           "evaluation)",
           {"budget", "tighten"},
-          {{"budget", {30, 100, 1000, 20000}}}},
+          {{"budget", {30, 100, 1000, 20000}}},
+          false},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_certified(tape, o, true);
          }},
@@ -214,7 +222,8 @@ const std::vector<Entry>& entries() {
           "ray marching with a fixed step (Perlin 1989), a sign change refined to --epsilon; "
           "approximate (skips features thinner than the step)",
           {"step", "epsilon", "budget", "bounds", "seconds"},
-          {{"step", {0.1, 0.03, 0.01, 0.003}}}},
+          {{"step", {0.1, 0.03, 0.01, 0.003}}},
+          false},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              const TraceOptions topt = trace_options(o);
              auto regions = region_tapes(tape, o);
@@ -230,10 +239,11 @@ const std::vector<Entry>& entries() {
           false,
           "sphere tracing (Hart 1996) with a proven global Lipschitz bound from the DAG (over "
           "--bounds, else over each ray's segment), outgrown by local bounds where it is loose; "
-          "where no finite bound exists or sphere tracing stops unknown, segment tracing; never "
-          "steps past the first root",
+          "where no finite bound exists, sphere tracing stops unknown or has spent half the "
+          "budget, segment tracing; never steps past the first root",
           {"epsilon", "budget", "bounds", "seconds"},
-          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},
+          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}},
+          true},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_lipschitz_tracer(tape, o, &sphere_trace);
          }},
@@ -242,7 +252,8 @@ const std::vector<Entry>& entries() {
           "enhanced sphere tracing (Keinert 2014): over-relaxed steps (1 + kappa)|f|/lambda with "
           "the step-back rule, same guarantee",
           {"kappa", "epsilon", "budget", "bounds", "seconds"},
-          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}, {"kappa", {0.2, 0.5}}}},
+          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}, {"kappa", {0.2, 0.5}}},
+          true},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_lipschitz_tracer(tape, o, &enhanced_trace);
          }},
@@ -251,7 +262,8 @@ const std::vector<Entry>& entries() {
           "segment tracing (Galin 2020) with local bounds of |grad f . d| over each segment from "
           "the DAG's interval derivatives; never steps past the first root",
           {"epsilon", "budget", "bounds", "seconds"},
-          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},
+          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}},
+          false},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_clipped_tracer(tape, o, &segment_trace);
          }},
@@ -261,7 +273,8 @@ const std::vector<Entry>& entries() {
           "keeps only the primitives whose boxes its segment meets (same zeros and sign along "
           "it), outside them the full tape",
           {"budget", "bounds"},
-          {{"budget", {30, 100, 1000, 20000}}}},
+          {{"budget", {30, 100, 1000, 20000}}},
+          false},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto scene = std::make_shared<const BoundedScene>(tape, octree_bounds(o));
              const std::uint64_t budget = o.budget;
@@ -274,7 +287,8 @@ const std::vector<Entry>& entries() {
           "empty and full cells skipped, each ambiguous cell solved with its pruned tape; the ray "
           "outside the bounds with the full tape",
           {"budget", "bounds", "depth", "tighten"},
-          {{"budget", {30, 100, 1000, 20000}}, {"depth", {3, 7}}}},
+          {{"budget", {30, 100, 1000, 20000}}, {"depth", {3, 7}}},
+          false},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto tree = std::make_shared<const Octree>(
                  tape, octree_bounds(o), OctreeOptions{o.depth, std::size_t{1} << 20});
@@ -290,7 +304,8 @@ const std::vector<Entry>& entries() {
           "skipped; segment tracing before and after the bounds and in a cell without a finite "
           "bound or left undecided after 16 steps; approximate, never steps past the first root",
           {"epsilon", "budget", "bounds", "depth", "seconds"},
-          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}, {"depth", {3, 7}}}},
+          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}, {"depth", {3, 7}}},
+          false},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto tree = std::make_shared<const Octree>(
                  tape, octree_bounds(o), OctreeOptions{o.depth, std::size_t{1} << 20});
@@ -308,7 +323,8 @@ const std::vector<Entry>& entries() {
           "where the distance is undefined or 32 steps leave the ray undecided, segment tracing; "
           "approximate, never steps past the first root",
           {"epsilon", "budget", "bounds", "seconds"},
-          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}}},
+          {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}},
+          true},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto scene = std::make_shared<const BoundedScene>(tape, octree_bounds(o));
              return inside_and_out(tape, scene->bounds(), trace_options(o),
@@ -331,7 +347,8 @@ const std::vector<Entry>& entries() {
           "branch changes (Wyvill 1990), each piece by closed forms up to degree 4 (approximate) "
           "and Bernstein clipping above (certified)",
           {"budget"},
-          {}},
+          {},
+          false},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_analytic(tape, o, solvers::AnalyticOptions::Mode::ClosedForm, "analytic");
          }},
@@ -340,7 +357,8 @@ const std::vector<Entry>& entries() {
           "piecewise-polynomial scenes: every piece by Bernstein-basis isolation with Bezier "
           "clipping (Nishita 1994) on the interval coefficients",
           {"budget"},
-          {}},
+          {},
+          false},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_analytic(tape, o, solvers::AnalyticOptions::Mode::Bernstein, "bernstein");
          }},
@@ -350,7 +368,8 @@ const std::vector<Entry>& entries() {
           "isolated by a Sturm sequence (Sturm 1829) and bisection at doubles to adjacent "
           "doubles, with its multiplicity; tangent and clustered roots proven; degree at most 64",
           {"budget"},
-          {}},
+          {},
+          false},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              const std::string why = solvers::why_not_exact_polynomial(tape);
              if (!why.empty()) {
@@ -370,7 +389,8 @@ const std::vector<Entry>& entries() {
           "g and g' sampled at --samples + 1 points, cubic Hermite pieces solved in turn "
           "(Sherstyuk 1999); approximate (misses features thinner than the spacing)",
           {"samples"},
-          {{"samples", {8, 32, 128}}}},
+          {{"samples", {8, 32, 128}}},
+          false},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              solvers::HermiteOptions opt;
              opt.samples = o.samples;
@@ -385,7 +405,8 @@ const std::vector<Entry>& entries() {
           "of a cell's segment excluded by the model, the rest finished by the certified solver "
           "on the pruned tape; the ray outside the bounds with the full tape",
           {"budget", "bounds", "depth", "tighten"},
-          {{"depth", {3, 5, 7}}}},
+          {{"depth", {3, 5, 7}}},
+          false},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto approx =
                  std::make_shared<const Approx>(tape, octree_bounds(o), approx_options(o));
@@ -401,7 +422,8 @@ const std::vector<Entry>& entries() {
           "form (cubic) on each ambiguous cell's segment; the scene is taken as empty outside the "
           "bounds; approximate (may miss or invent roots)",
           {"bounds", "depth"},
-          {{"depth", {3, 5, 7}}}},
+          {{"depth", {3, 5, 7}}},
+          false},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto approx =
                  std::make_shared<const Approx>(tape, octree_bounds(o), approx_options(o));
@@ -412,7 +434,8 @@ const std::vector<Entry>& entries() {
           "certified, every evaluation in 256-bit MPFR intervals: enclosures of adjacent doubles, "
           "the ground truth of the benchmarks (about 100x slower)",
           {"budget"},
-          {}},
+          {},
+          false},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              solvers::CertifiedOptions opt;
              opt.budget = o.budget;

@@ -27,6 +27,8 @@
 
 namespace certray::tracers {
 
+class ConeMarch;
+
 /// What a 3D image shows.
 enum class Aov : std::uint8_t { Shade, Depth, Steps, Normal, Status };
 
@@ -43,6 +45,12 @@ struct RenderOptions {
     Aov aov = Aov::Shade;
     unsigned threads = 0;              ///< worker threads; 0: one per hardware thread
     WorkProgress* progress = nullptr;  ///< when set, advanced tile by tile (tracers/progress.h)
+    /// When set, each tile's rays are first cone-marched (tracers/cone.h): the method then traces
+    /// each ray from where the march proved it free of zeros, and a ray proven free on its whole
+    /// segment is a Miss without a call. Only for methods that never step past the first root
+    /// given the same Lipschitz bounds (MethodInfo::cone); each pixel's evaluations include its
+    /// share of the march's.
+    const ConeMarch* cone = nullptr;
 };
 
 /// Per-image totals.

@@ -32,7 +32,9 @@ struct RenderSettings {
     bool ortho = false;
     /// The certified method (zero or solid surface) is drawn by the coherent renderer
     /// (tracers/coherent.h: rays sharing interval work, each pixel keeping its certified
-    /// meaning); false: one independent ray per pixel, as for the other methods.
+    /// meaning), and the Lipschitz tracers (MethodInfo::cone: sphere, enhanced, segment, bvh,
+    /// octree) start their rays where a cone march of their tile proved them free
+    /// (tracers/cone.h); false: one independent ray per pixel from the camera, for every method.
     bool coherent = true;
     /// Coherent certified images: a pixel's hit enclosure may stop narrowing once it is this many
     /// pixel footprints deep (tracers::CoherentOptions::depth_pixels; faster). 0: depths to 10⁻⁶
