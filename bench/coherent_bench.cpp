@@ -16,7 +16,8 @@
 // (boxes/px), leaf solves (leaves/px), of those decided by scans (scans/px) and by scans of
 // several rays at once (together/px), and the image's hit/miss/unknown counts. Command:
 // build/bench/coherent_bench [--benchmark_filter=…]; results in docs/benchmarks.md, "Coherent
-// certified rendering".
+// certified rendering". BM_Cone: the Lipschitz tracers with and without the cone march
+// (docs/benchmarks.md, "Cone marching for sphere, enhanced and bvh").
 #include <benchmark/benchmark.h>
 
 #include <string>
@@ -28,6 +29,7 @@
 #include "solvers/solid.h"
 #include "tracers/camera.h"
 #include "tracers/coherent.h"
+#include "tracers/cone.h"
 #include "tracers/methods.h"
 #include "tracers/parallel.h"
 #include "tracers/render.h"
@@ -210,6 +212,42 @@ BENCHMARK(BM_PerRay)
     ->MeasureProcessCPUTime()
     ->UseRealTime()
     ->Iterations(1);
+
+/// The Lipschitz tracers' images with and without the cone march (tracers/cone.h): `certray render
+/// --method M` and `--per-ray`. Arguments: scene, side, method (0 sphere, 1 enhanced, 2 bvh),
+/// cone (1: march each tile first). The method and the march are built outside the timed loop
+/// (as `make_method` builds them before `certray render` times the image), the zero surface.
+void BM_Cone(benchmark::State& state) {
+    static constexpr const char* kMethods[] = {"sphere", "enhanced", "bvh"};
+    const int scene = static_cast<int>(state.range(0));
+    const unsigned side = static_cast<unsigned>(state.range(1));
+    const tracers::CoherentOptions o = options(scene, side, false, 2, true);
+    const expr::Tape& tape = tape_of(scene);
+    tracers::MethodOptions mo;
+    const auto& b = o.render.bounds;
+    mo.bounds = std::array<Interval, 3>{Interval(b[0][0], b[0][1]), Interval(b[1][0], b[1][1]),
+                                        Interval(b[2][0], b[2][1])};
+    const tracers::RayFunction fn = tracers::make_method(kMethods[state.range(2)], tape, mo);
+    tracers::ConeOptions copt;
+    copt.epsilon = mo.epsilon;
+    const tracers::ConeMarch march(tape, b, copt);
+    tracers::RenderOptions ro = o.render;
+    if (state.range(3) != 0) ro.cone = &march;
+    tracers::RenderResult r;
+    for (auto _ : state) {
+        r = tracers::render_3d(tape, fn, ro);
+        benchmark::DoNotOptimize(r.stats.hit);
+    }
+    report(state, r, static_cast<double>(side) * side);
+}
+
+// Arguments: scene (0 Barth, 3 tanglecube), side, method (0 sphere, 1 enhanced, 2 bvh), cone.
+BENCHMARK(BM_Cone)
+    ->ArgNames({"scene", "side", "method", "cone"})
+    ->ArgsProduct({{0, 3}, {512}, {0, 1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace certray
