@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "interval/grad_bound.h"
@@ -59,21 +60,141 @@ double norm_bound(const std::array<Interval, 3>& grad) {
     return (sqrt(sum) * Interval(std::ldexp(1.0, e))).upper();
 }
 
+namespace {
+
+/// The instructions of an SSA list by the slot they write.
+class BySlot {
+  public:
+    explicit BySlot(const std::vector<Instr>& ssa) : ssa_(ssa) {
+        thread_local std::vector<std::uint32_t> index;
+        index.assign(ssa.size(), kNone);
+        for (std::uint32_t i = 0; i < ssa.size(); ++i) {
+            if (ssa[i].out < index.size()) index[ssa[i].out] = i;
+        }
+        index_ = &index;
+    }
+    /// The instruction writing slot `s`, if it has op `op`.
+    const Instr* as(std::uint32_t s, Op op) const {
+        if (s >= index_->size() || (*index_)[s] == kNone) return nullptr;
+        const Instr& in = ssa_[(*index_)[s]];
+        return in.op == op ? &in : nullptr;
+    }
+    /// Whether slot `s` is the constant `v` (0 matches either sign of zero).
+    bool is_const(std::uint32_t s, double v) const {
+        const Instr* c = as(s, Op::Const);
+        return c != nullptr && c->imm == v;
+    }
+
+  private:
+    static constexpr std::uint32_t kNone = 0xffffffffu;
+    const std::vector<Instr>& ssa_;
+    const std::vector<std::uint32_t>* index_;
+};
+
+/// Whether slot `kern` is max(k − |d|, 0)² / (4k), k > 0, with d = a − b or b − a.
+bool is_kernel(const BySlot& at, std::uint32_t kern, std::uint32_t a, std::uint32_t b) {
+    const Instr* div = at.as(kern, Op::Div);
+    if (div == nullptr) return false;
+    const Instr* c = at.as(div->b, Op::Const);
+    const Instr* sq = at.as(div->a, Op::Square);
+    if (c == nullptr || sq == nullptr) return false;
+    const Instr* mx = at.as(sq->a, Op::Max);
+    if (mx == nullptr) return false;
+    std::uint32_t inner = mx->a;
+    if (!at.is_const(mx->b, 0.0)) {
+        if (!at.is_const(mx->a, 0.0)) return false;
+        inner = mx->b;
+    }
+    const Instr* sub = at.as(inner, Op::Sub);
+    if (sub == nullptr) return false;
+    const Instr* k = at.as(sub->a, Op::Const);
+    const Instr* ab = at.as(sub->b, Op::Abs);
+    if (k == nullptr || ab == nullptr || !(k->imm > 0) || c->imm != 4 * k->imm) return false;
+    const Instr* d = at.as(ab->a, Op::Sub);
+    return d != nullptr && ((d->a == a && d->b == b) || (d->a == b && d->b == a));
+}
+
+}  // namespace
+
+void smooth_blends(const std::vector<Instr>& ssa, std::vector<SmoothBlend>& out) {
+    out.clear();
+    bool any = false;  // no Div, no blend: skip the map (most tapes)
+    for (const Instr& in : ssa) any = any || in.op == Op::Div;
+    if (!any) return;
+    const BySlot at(ssa);
+    for (const Instr& in : ssa) {
+        if (in.op == Op::Sub) {
+            const Instr* hard = at.as(in.a, Op::Min);
+            if (hard != nullptr && is_kernel(at, in.b, hard->a, hard->b)) {
+                out.push_back({in.out, hard->a, hard->b});
+            }
+        } else if (in.op == Op::Add) {
+            for (const auto& [h, k] : {std::pair{in.a, in.b}, std::pair{in.b, in.a}}) {
+                const Instr* hard = at.as(h, Op::Max);
+                if (hard != nullptr && is_kernel(at, k, hard->a, hard->b)) {
+                    out.push_back({in.out, hard->a, hard->b});
+                    break;
+                }
+            }
+        }
+    }
+}
+
+std::vector<SmoothBlend> smooth_blends(const std::vector<Instr>& ssa) {
+    std::vector<SmoothBlend> out;
+    smooth_blends(ssa, out);
+    return out;
+}
+
+namespace {
+
+/// After each blend's root: the operands' hull and max(λ_a, λ_b), its value kept (see the file
+/// contract of derived.h).
+struct BlendRule {
+    const std::vector<SmoothBlend>& blends;
+    std::size_t next = 0;
+    void operator()(const Instr& in, GradBound* r) {
+        if (next >= blends.size() || in.out != blends[next].root) return;
+        const SmoothBlend& b = blends[next++];
+        GradBound& g = r[in.out];
+        if (!g.d.a.defined) return;  // no Lipschitz bound claimed where f is not proven defined
+        const GradBound& x = r[b.a];
+        const GradBound& y = r[b.b];
+        for (int i = 0; i < 3; ++i) g.d.v[i] = hull(x.d.v[i], y.d.v[i]);
+        g.lip = std::max(x.lip, y.lip);
+        g.has_form = false;
+        g = certray::detail::finish(g);
+    }
+};
+
+}  // namespace
+
 double lipschitz_bound(const Tape& tape, const std::array<Interval, 3>& box) {
     thread_local std::vector<GradBound> regs;
-    if (regs.size() < tape.registers()) regs.resize(tape.registers());
     std::array<Interval, 3> parts;
     double lip = 0;
+    thread_local std::vector<SmoothBlend> blends;
+    smooth_blends(tape.ssa(), blends);
     {
         RoundingScope scope;
         const std::array<GradBound, 3> p{GradBound::variable(UpInterval(box[0]), 0),
                                          GradBound::variable(UpInterval(box[1]), 1),
                                          GradBound::variable(UpInterval(box[2]), 2)};
-        detail::run<GradBound>(tape.instrs(), p, regs.data());
-        const GradBound& out = regs[tape.output()];
-        if (!out.d.a.defined) return std::numeric_limits<double>::infinity();
-        lip = out.lip;
-        for (int i = 0; i < 3; ++i) parts[i] = Interval(out.d.v[i]);
+        const GradBound* out = nullptr;
+        if (blends.empty()) {
+            if (regs.size() < tape.registers()) regs.resize(tape.registers());
+            detail::run<GradBound>(tape.instrs(), p, regs.data());
+            out = &regs[tape.output()];
+        } else {
+            // The SSA form, so that each blend's operands are still there at its root.
+            const std::vector<Instr>& ssa = tape.ssa();
+            if (regs.size() < ssa.size()) regs.resize(ssa.size());
+            detail::run<GradBound>(ssa, p, regs.data(), BlendRule{blends});
+            out = &regs[ssa.back().out];
+        }
+        if (!out->d.a.defined) return std::numeric_limits<double>::infinity();
+        lip = out->lip;
+        for (int i = 0; i < 3; ++i) parts[i] = Interval(out->d.v[i]);
     }
     // The components' norm scaled against underflow (GradBound's own is only rounded up).
     return std::min(lip, norm_bound(parts));

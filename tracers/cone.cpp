@@ -153,7 +153,17 @@ void ConeMarch::node(Walk& w, unsigned i0, unsigned j0, unsigned i1, unsigned j1
             // The free radius: from the global λ, and a local one where it beats it.
             double d = lambda_ > 0 && lambda_ < kInf ? detail::div_down(m, lambda_) : 0.0;
             const double rho = std::max({16 * options_.epsilon, 2 * previous, 4 * r0});
-            if (!(d >= rho / 2)) {
+            // A local λ over a box holding p is at least ‖∇f(p)‖: where that is ≥ λ/2 it cannot
+            // beat the global bound by 2×, and the gradient at p costs a fraction of it.
+            bool tight = false;
+            if (!(d >= rho / 2) && lambda_ < kInf) {
+                ++w.evals.gradient;
+                ++evals;
+                const Dual<double, 3> g = expr::gradient(regions_.at(p), p);
+                tight =
+                    2 * std::sqrt(g.v[0] * g.v[0] + g.v[1] * g.v[1] + g.v[2] * g.v[2]) >= lambda_;
+            }
+            if (!(d >= rho / 2) && !tight) {
                 ++w.evals.gradient;
                 ++evals;
                 const Interval near =

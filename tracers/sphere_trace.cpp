@@ -46,6 +46,22 @@ Interval tape_distance(const expr::Tape& tape, const RegionTapes* regions, const
     if (lambda > 0 && !contains(v, 0.0) &&
         (local.useful ? global < rho / 2 : global < epsilon || retry)) {
         ++evals.gradient;
+        if (local.useful && !local.probed) {
+            // A local λ over a box holding p is at least ‖∇f(p)‖: where that is ≥ λ/2 no local
+            // bound can beat the global one by 2×, and a gradient at the point costs a fraction
+            // of a bound over a box (a tenth on the molecule's region tapes). Decided once a ray.
+            local.probed = true;
+            std::array<double, 3> c;
+            for (int i = 0; i < 3; ++i) c[i] = midpoint(p[i]);
+            const Dual<double, 3> g = expr::gradient(regions ? regions->at(p) : tape, c);
+            const double n = std::sqrt(g.v[0] * g.v[0] + g.v[1] * g.v[1] + g.v[2] * g.v[2]);
+            if (2 * n >= lambda) {
+                local.useful = false;
+                local.retry_below = global / 16;
+                local.previous = detail::mignitude(d);
+                return d;
+            }
+        }
         const Interval near = detail::local_distance_bound(tape, p, v, rho, regions, &within);
         const double m = detail::usable(near) ? detail::mignitude(near) : 0.0;
         if (m > global) d = near;

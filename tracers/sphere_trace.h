@@ -74,6 +74,9 @@ struct LocalBounds {
     bool useful = true;
     /// While not useful: a local bound is tried again once the global bound falls below this.
     double retry_below = 0;
+    /// Whether the gradient at a point has been compared with λ on this ray (tape_distance: where
+    /// ‖∇f(p)‖ ≥ λ/2, λ is tight and no local bound is tried until the bound falls below epsilon).
+    bool probed = false;
 };
 
 /// sphere_trace continuing from `local` and leaving it as it ends: a caller tracing consecutive
