@@ -192,6 +192,24 @@ TEST(Tracers, LooseLambdaIsOutgrownByLocalBounds) {
     }
 }
 
+TEST(Tracers, LocalBoxesAreReusedOnlyWhereTheyHold) {
+    // (x² + y² + z²)² − 1 from the origin along +x, first zero at t = 1: ‖∇f‖ = 4|p|³ is tiny
+    // near the start and 4 at the zero. A box's λ near the start, reused for points outside that
+    // box, would let the free radius jump past the zero; each step must take a box that holds it.
+    const Tape s = tape_of("(x^2 + y^2 + z^2)^2 - 1");
+    TraceOptions o;
+    o.seconds = 0;
+    for (const Ray& ray :
+         {Ray{{0, 0, 0}, {1, 0, 0}, 0, 3}, Ray{{0.01, 0, 0}, {0.6, 0.8, 0}, 0, 3}}) {
+        for (const RayResult& r : {sphere_trace(s, ray, 1e6, o), enhanced_trace(s, ray, 1e6, o)}) {
+            ASSERT_EQ(r.status, Status::Hit);
+            const double root = ray.o[0] == 0 ? 1.0 : -0.006 + std::sqrt(0.006 * 0.006 + 1 - 1e-4);
+            EXPECT_LE(r.t, root + 1e-12);
+            EXPECT_GE(r.t, root - 1e-5);
+        }
+    }
+}
+
 TEST(Tracers, BrokenLambdaOvershoots) {
     // λ/2 = 0.5 on the unit sphere from (0, 0, −3.5): the first step is 2·2.5 = 5 > 2.5, the
     // first root — sphere tracing jumps past the sphere and reports a miss. The never-past-the-
@@ -233,6 +251,28 @@ RC_GTEST_PROP(TracersProperty, SphereUnionsNeverPastFirstRoot, ()) {
     TraceOptions o;
     o.budget = 2000;
     for (const RayResult& r : lipschitz_tracers(t, ray, 1.0, o)) check_against_certified(t, ray, r);
+}
+
+RC_GTEST_PROP(TracersProperty, LocalBoundsNeverPastFirstRoot, ()) {
+    // Blobby unions of spheres (squared distances, 2r-Lipschitz near each) with a sound but
+    // loose λ = 10⁴: the local bounds over boxes around the points do the work, each box reused
+    // while the next point's box fits inside it (sphere_trace.cpp, local_bound).
+    const int n = *rc::gen::inRange(1, 5);
+    std::string text;
+    for (int k = 0; k < n; ++k) {
+        const double cx = *rc::gen::inRange(-20, 20) / 10.0, cy = *rc::gen::inRange(-20, 20) / 10.0,
+                     cz = *rc::gen::inRange(-20, 20) / 10.0, r = *rc::gen::inRange(1, 15) / 10.0;
+        const std::string s = "((x - " + std::to_string(cx) + ")^2 + (y - " + std::to_string(cy) +
+                              ")^2 + (z - " + std::to_string(cz) + ")^2 - " +
+                              std::to_string(r * r) + ")";
+        text = k == 0 ? s : "min(" + text + ", " + s + ")";
+    }
+    const Tape t = tape_of(text);
+    const Ray ray = *testing::gen_ray(100, 80);
+    TraceOptions o;
+    o.budget = 3000;
+    o.seconds = 0;
+    for (const RayResult& r : lipschitz_tracers(t, ray, 1e4, o)) check_against_certified(t, ray, r);
 }
 
 RC_GTEST_PROP(TracersProperty, RandomDagsNeverPastFirstRoot, ()) {
