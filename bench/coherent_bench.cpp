@@ -17,7 +17,7 @@
 // several rays at once (together/px), and the image's hit/miss/unknown counts. Command:
 // build/bench/coherent_bench [--benchmark_filter=…]; results in docs/benchmarks.md, "Coherent
 // certified rendering". BM_Cone: the Lipschitz tracers with and without the cone march
-// (docs/benchmarks.md, "Cone marching for sphere, enhanced and bvh").
+// (docs/benchmarks.md, "Cone marching for the Lipschitz tracers").
 #include <benchmark/benchmark.h>
 
 #include <string>

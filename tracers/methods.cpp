@@ -263,7 +263,7 @@ const std::vector<Entry>& entries() {
           "the DAG's interval derivatives; never steps past the first root",
           {"epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}},
-          false},
+          true},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_clipped_tracer(tape, o, &segment_trace);
          }},
@@ -305,7 +305,7 @@ const std::vector<Entry>& entries() {
           "bound or left undecided after 16 steps; approximate, never steps past the first root",
           {"epsilon", "budget", "bounds", "depth", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}, {"depth", {3, 7}}},
-          false},
+          true},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto tree = std::make_shared<const Octree>(
                  tape, octree_bounds(o), OctreeOptions{o.depth, std::size_t{1} << 20});

@@ -105,11 +105,10 @@ struct MethodInfo {
     std::vector<std::string_view> knobs;
     /// Its sweep in the study (first knob first); empty: the defaults only.
     std::vector<Sweep> sweep;
-    /// True for the tracers that step from the camera by free balls of Lipschitz bounds and never
-    /// past the first root (sphere, enhanced, bvh): an image starts their rays where a cone march
+    /// True for the tracers that never step past the first root given Lipschitz bounds of f
+    /// (sphere, enhanced, segment, octree, bvh): an image starts their rays where a cone march
     /// proved them free (tracers/cone.h, RenderOptions::cone), their own kind of proof shared by
-    /// a tile. Not segment and octree, which skip empty space by enclosures of their own
-    /// (segments, cells): the march made them slower on the Barth sextic (docs/benchmarks.md).
+    /// a tile (docs/benchmarks.md, "Cone marching").
     bool cone = false;
 };
 
