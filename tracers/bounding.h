@@ -64,6 +64,14 @@ class BoundedScene {
     struct LocalTries {
         bool refine = true;
         std::uint64_t tried = 0, won = 0;
+        /// The last local bounds' boxes of up to four leaves, reused while the point's box fits
+        /// (detail::LocalBox), and whether each leaf's λ has been checked against the gradient at
+        /// a point (leaf_distance); slots taken round robin.
+        std::array<std::uint32_t, 4> leaf{~0u, ~0u, ~0u, ~0u};
+        std::array<detail::LocalBox, 4> boxes{};
+        std::array<bool, 4> probed{};  ///< the gradient at a point compared with the leaf's λ
+        std::array<bool, 4> tight{};   ///< and found ≥ λ/2: no local bound on that leaf
+        unsigned next = 0;
     };
 
     /// An enclosure of the signed distance bound at every point of the box p (a tiny box around

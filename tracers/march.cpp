@@ -70,6 +70,52 @@ Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval,
     return Interval(std::max(q.lower(), -rho), std::max(q.upper(), -rho));
 }
 
+namespace {
+
+/// min(|v|/λ, ρ) with v's sign (v certainly non-zero); empty unless λ is finite and positive.
+Interval capped(const Interval& v, double lam, double rho) {
+    if (!(lam > 0 && lam < kInf)) return Interval::empty();
+    const Interval q = distance_bound(v, lam);
+    if (q.lower() > 0) return Interval(std::min(q.lower(), rho), std::min(q.upper(), rho));
+    return Interval(std::max(q.lower(), -rho), std::max(q.upper(), -rho));
+}
+
+}  // namespace
+
+Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval, 3>& p,
+                              const Interval& v, double rho, const RegionTapes* regions,
+                              const std::array<Interval, 3>& within, LocalBox& cache,
+                              bool& evaluated) {
+    evaluated = false;
+    if (cache.valid) {
+        // The largest ρ′ with (p ⊕ ρ′) ∩ within inside the cached box: a face of the cached box
+        // that is a face of `within` bounds nothing.
+        double fit = kInf;
+        for (int i = 0; i < 3; ++i) {
+            const Interval& c = cache.box[i];
+            if (c.lower() > within[i].lower()) {
+                fit = std::min(fit, add_down(p[i].lower(), -c.lower()));
+            }
+            if (c.upper() < within[i].upper()) {
+                fit = std::min(fit, add_down(c.upper(), -p[i].upper()));
+            }
+        }
+        if (fit >= rho / 2) return capped(v, cache.lambda, std::min(fit, rho));
+    }
+    evaluated = true;
+    std::array<Interval, 3> box;
+    for (int i = 0; i < 3; ++i) {
+        const double lo = std::max(std::nextafter(p[i].lower() - rho, -kInf), within[i].lower());
+        const double hi = std::min(std::nextafter(p[i].upper() + rho, kInf), within[i].upper());
+        if (!(lo <= hi)) return Interval::empty();
+        box[i] = Interval(lo, hi);
+    }
+    cache.valid = true;
+    cache.box = box;
+    cache.lambda = expr::lipschitz_bound(regions ? regions->at(box) : tape, box);
+    return capped(v, cache.lambda, rho);
+}
+
 std::array<Interval, 3> segment_box(const Ray& ray) {
     std::array<Interval, 3> box;
     for (int i = 0; i < 3; ++i) {

@@ -113,6 +113,24 @@ Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval,
                               const Interval& v, double rho, const RegionTapes* regions = nullptr,
                               const std::array<Interval, 3>* within = nullptr);
 
+/// A local bound's box (cut to `within`) and λ over it, kept for reuse on one ray.
+struct LocalBox {
+    bool valid = false;
+    std::array<Interval, 3> box{};
+    double lambda = 0;
+};
+
+/// local_distance_bound, reusing `cache`: where p's box inflated by some ρ′ ≥ ρ/2 and cut to
+/// `within` fits inside the cached box, min(|v|/λ, min(ρ′, ρ)) with the cached λ (every surface
+/// point of `within` nearer than ρ′ to p lies in the cached box, and so does the straight path to
+/// it: λ bounds ∇f there), and no evaluation; otherwise a new bound over p ⊕ ρ cut to `within`,
+/// stored in `cache`, and `evaluated` set (one interval-gradient evaluation). A tracer converging
+/// on a surface shrinks its boxes step by step, so each falls inside the last one.
+Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval, 3>& p,
+                              const Interval& v, double rho, const RegionTapes* regions,
+                              const std::array<Interval, 3>& within, LocalBox& cache,
+                              bool& evaluated);
+
 /// The box of the ray's segment o + [tmin, tmax]·d, rounded outward (infinite where tmax is).
 std::array<Interval, 3> segment_box(const Ray& ray);
 

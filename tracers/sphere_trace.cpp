@@ -19,53 +19,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// min(|v|/λ, ρ) with v's sign (v certainly non-zero), or empty when λ is not finite and positive.
-Interval capped(const Interval& v, double lam, double rho) {
-    if (!(lam > 0 && lam < kInf)) return Interval::empty();
-    const Interval q = detail::distance_bound(v, lam);
-    if (q.lower() > 0) return Interval(std::min(q.lower(), rho), std::min(q.upper(), rho));
-    return Interval(std::max(q.lower(), -rho), std::max(q.upper(), -rho));
-}
-
-/// The local distance bound at the point box p (detail::local_distance_bound over p's box
-/// inflated by ρ and cut to `within`), reusing the box of an earlier one on the ray where it holds
-/// p's box inflated by ρ′ ≥ ρ/2 (cut to `within`): λ over that box bounds ∇f over the smaller one,
-/// so min(|v|/λ, ρ′) is a distance bound too (every surface point within ρ′ of p and in `within`
-/// lies in the cached box, and so does the path to it). A new box costs one gradient evaluation
-/// (counted); a reused one none. Sphere tracing converging on a surface shrinks its boxes step by
-/// step, so each falls inside the last computed one.
-Interval local_bound(const expr::Tape& tape, const RegionTapes* regions,
-                     const std::array<Interval, 3>& p, const Interval& v, double rho,
-                     const std::array<Interval, 3>& within, detail::LocalBounds& local,
-                     EvalCounts& evals) {
-    if (local.have_box) {
-        double fit = kInf;
-        for (int i = 0; i < 3; ++i) {
-            const Interval& c = local.box[i];
-            if (c.lower() > within[i].lower()) {
-                fit = std::min(fit, detail::add_down(p[i].lower(), -c.lower()));
-            }
-            if (c.upper() < within[i].upper()) {
-                fit = std::min(fit, detail::add_down(c.upper(), -p[i].upper()));
-            }
-        }
-        if (fit >= rho / 2) return capped(v, local.box_lambda, std::min(fit, rho));
-    }
-    ++evals.gradient;
-    std::array<Interval, 3> box;
-    for (int i = 0; i < 3; ++i) {
-        const double lo = std::max(std::nextafter(p[i].lower() - rho, -kInf), within[i].lower());
-        const double hi = std::min(std::nextafter(p[i].upper() + rho, kInf), within[i].upper());
-        if (!(lo <= hi)) return Interval::empty();
-        box[i] = Interval(lo, hi);
-    }
-    const double lam = expr::lipschitz_bound(regions ? regions->at(box) : tape, box);
-    local.have_box = true;
-    local.box = box;
-    local.box_lambda = lam;
-    return capped(v, lam, rho);
-}
-
 /// The signed distance bound |g|/λ at t from the tape and a global λ (space units), improved by a
 /// local λ over the point's box inflated by ρ: min(|g|/λ_local, ρ) is a distance bound too (a
 /// surface point within ρ is reached inside that box; a farther one is farther than ρ), and the
@@ -109,7 +62,10 @@ Interval tape_distance(const expr::Tape& tape, const RegionTapes* regions, const
                 return d;
             }
         }
-        const Interval near = local_bound(tape, regions, p, v, rho, within, local, evals);
+        bool evaluated = false;
+        const Interval near =
+            detail::local_distance_bound(tape, p, v, rho, regions, within, local.box, evaluated);
+        evals.gradient += evaluated;
         const double m = detail::usable(near) ? detail::mignitude(near) : 0.0;
         if (m > global) d = near;
         const bool beats = m >= 2 * global;

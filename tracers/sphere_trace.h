@@ -78,10 +78,8 @@ struct LocalBounds {
     /// ‖∇f(p)‖ ≥ λ/2, λ is tight and no local bound is tried until the bound falls below epsilon).
     bool probed = false;
     /// The box of the last local bound computed on this ray and λ over it (tape_distance reuses
-    /// it while the point's box inflated by ρ/2 or more fits inside).
-    bool have_box = false;
-    std::array<Interval, 3> box{};
-    double box_lambda = 0;
+    /// it while the point's box inflated by ρ/2 or more fits inside: detail::LocalBox).
+    LocalBox box;
 };
 
 /// sphere_trace continuing from `local` and leaving it as it ends: a caller tracing consecutive
