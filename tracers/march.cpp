@@ -90,9 +90,12 @@ Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval,
     if (cache.valid) {
         // The largest ρ′ with (p ⊕ ρ′) ∩ within inside the cached box: a face of the cached box
         // that is a face of `within` bounds nothing.
-        double fit = kInf;
+        // Not a box far larger than this ρ asks for: its λ may be far looser than a fresh one's
+        // (a tracer converging on a surface, or deciding a hit, wants the tight one).
+        double fit = kInf, half = 0;
         for (int i = 0; i < 3; ++i) {
             const Interval& c = cache.box[i];
+            half = std::max(half, 0.5 * (c.upper() - c.lower()));
             if (c.lower() > within[i].lower()) {
                 fit = std::min(fit, add_down(p[i].lower(), -c.lower()));
             }
@@ -100,7 +103,9 @@ Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval,
                 fit = std::min(fit, add_down(c.upper(), -p[i].upper()));
             }
         }
-        if (fit >= rho / 2) return capped(v, cache.lambda, std::min(fit, rho));
+        if (fit >= rho / 2 && half <= 16 * rho) {
+            return capped(v, cache.lambda, std::min(fit, rho));
+        }
     }
     evaluated = true;
     std::array<Interval, 3> box;

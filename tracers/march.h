@@ -121,11 +121,13 @@ struct LocalBox {
 };
 
 /// local_distance_bound, reusing `cache`: where p's box inflated by some ρ′ ≥ ρ/2 and cut to
-/// `within` fits inside the cached box, min(|v|/λ, min(ρ′, ρ)) with the cached λ (every surface
-/// point of `within` nearer than ρ′ to p lies in the cached box, and so does the straight path to
-/// it: λ bounds ∇f there), and no evaluation; otherwise a new bound over p ⊕ ρ cut to `within`,
-/// stored in `cache`, and `evaluated` set (one interval-gradient evaluation). A tracer converging
-/// on a surface shrinks its boxes step by step, so each falls inside the last one.
+/// `within` fits inside the cached box, and that box is at most 16ρ wide on each side of its
+/// centre (a much larger box's λ may be far looser than a fresh one's), min(|v|/λ, min(ρ′, ρ)) with
+/// the cached λ (every surface point of `within` nearer than ρ′ to p lies in the cached box, and so
+/// does the straight path to it: λ bounds ∇f there), and no evaluation; otherwise a new bound over
+/// p ⊕ ρ cut to `within`, stored in `cache`, and `evaluated` set (one interval-gradient
+/// evaluation). A tracer converging on a surface shrinks its boxes step by step, so each falls
+/// inside the last one.
 Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval, 3>& p,
                               const Interval& v, double rho, const RegionTapes* regions,
                               const std::array<Interval, 3>& within, LocalBox& cache,
