@@ -66,6 +66,22 @@ std::vector<Ball> as_printed(std::vector<Ball> balls) {
     return balls;
 }
 
+/// The tile of side × side pixels from (i0, j0) of the camera's image, each ray clipped to the
+/// bounds (Active) or missing them (Outside).
+ConeTile tile_of(const CameraFrame& frame, unsigned i0, unsigned j0, unsigned side,
+                 const Box3& bounds) {
+    ConeTile tile;
+    tile.width = tile.height = side;
+    for (unsigned j = 0; j < side; ++j) {
+        for (unsigned i = 0; i < side; ++i) {
+            Ray r = frame.ray(i0 + i + 0.5, j0 + j + 0.5);
+            tile.state.push_back(clip_ray(r, bounds) ? ConeTile::Active : ConeTile::Outside);
+            tile.rays.push_back(r);
+        }
+    }
+    return tile;
+}
+
 // Every ray the march leaves active starts at or before its first root, and every ray it calls
 // free has no root on its segment: random unions of 1–4 balls, random cameras, 48×48 pixels in
 // 16×16 tiles. The march must also do its work: most rays that miss every ball are proven free.
@@ -90,18 +106,8 @@ TEST(ConeMarch, NeverPassesTheFirstRoot) {
         const CameraFrame frame(cam, 48, 48);
         for (unsigned tj = 0; tj < 48; tj += 16) {
             for (unsigned ti = 0; ti < 48; ti += 16) {
-                ConeTile tile;
-                tile.width = tile.height = 16;
-                std::vector<Ray> before;
-                for (unsigned j = 0; j < 16; ++j) {
-                    for (unsigned i = 0; i < 16; ++i) {
-                        Ray r = frame.ray(ti + i + 0.5, tj + j + 0.5);
-                        const bool in = clip_ray(r, bounds);
-                        tile.rays.push_back(r);
-                        tile.state.push_back(in ? ConeTile::Active : ConeTile::Outside);
-                    }
-                }
-                before = tile.rays;
+                ConeTile tile = tile_of(frame, ti, tj, 16, bounds);
+                const std::vector<Ray> before = tile.rays;
                 const EvalCounts evals = march.march(tile);
                 EXPECT_GT(evals.total(), 0u);
                 for (std::size_t k = 0; k < tile.rays.size(); ++k) {
@@ -147,15 +153,7 @@ TEST(ConeMarch, AdvancesTheRaysThatHit) {
     cam.eye = {0, -8, 0};
     cam.fov_degrees = 30;
     const CameraFrame frame(cam, 32, 32);
-    ConeTile tile;
-    tile.width = tile.height = 32;
-    for (unsigned j = 0; j < 32; ++j) {
-        for (unsigned i = 0; i < 32; ++i) {
-            Ray r = frame.ray(i + 0.5, j + 0.5);
-            tile.state.push_back(clip_ray(r, bounds) ? ConeTile::Active : ConeTile::Outside);
-            tile.rays.push_back(r);
-        }
-    }
+    ConeTile tile = tile_of(frame, 0, 0, 32, bounds);
     const std::vector<Ray> before = tile.rays;
     march.march(tile);
     int hits = 0;
@@ -179,15 +177,7 @@ TEST(ConeMarch, SharesSumToTheEvaluations) {
     Camera cam;
     cam.eye = {1, -6, 2};
     const CameraFrame frame(cam, 16, 16);
-    ConeTile tile;
-    tile.width = tile.height = 16;
-    for (unsigned j = 0; j < 16; ++j) {
-        for (unsigned i = 0; i < 16; ++i) {
-            Ray r = frame.ray(i + 0.5, j + 0.5);
-            tile.state.push_back(clip_ray(r, bounds) ? ConeTile::Active : ConeTile::Outside);
-            tile.rays.push_back(r);
-        }
-    }
+    ConeTile tile = tile_of(frame, 0, 0, 16, bounds);
     const EvalCounts evals = march.march(tile);
     double sum = 0;
     for (const double s : tile.share) sum += s;
