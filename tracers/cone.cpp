@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 
 #include "expr/derived.h"
@@ -171,9 +169,6 @@ void ConeMarch::node(Walk& w, unsigned i0, unsigned j0, unsigned i1, unsigned j1
                 if (detail::usable(near)) d = std::max(d, detail::mignitude(near));
             }
             previous = d;
-            if (getenv("CONE_DBG"))
-                fprintf(stderr, "node %u %u %u %u t %g m %g d %g r0 %g rho %g\n", i0, j0, i1, j1, t,
-                        m, d, r0, rho);
             split = !(d > 2 * r0);
             if (!split) {
                 std::array<double, 3> dm;
