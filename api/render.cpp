@@ -99,10 +99,11 @@ tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {
     }
     const tracers::RayFunction fn = tracers::make_method(s.method, scene.tape(), mo);
     std::optional<tracers::ConeMarch> cone;
-    if (info.cone && s.coherent) {
+    if (info.cone != tracers::ConeMarching::None && s.coherent) {
         NearestScope env;
         tracers::ConeOptions copt;
         copt.epsilon = mo.epsilon;
+        copt.local_bounds = info.cone == tracers::ConeMarching::Local;
         cone.emplace(scene.tape(), ro.bounds, copt);
         ro.cone = &*cone;
     }

@@ -188,11 +188,12 @@ int main(int argc, char** argv) {
             "orthographic heightmap, one ray per pixel along -z over the bounds (the "
             "setting of libfive's and Fidget's 3D timings; method certified, either surface)")
         ->check(CLI::IsMember({"pinhole", "ortho"}));
-    cmd_render->add_flag("--per-ray", render.per_ray,
-                         "One independent ray per pixel from the camera: certified without the "
-                         "coherent renderer, the Lipschitz tracers (sphere, enhanced, segment, "
-                         "octree, bvh) without the cone march of each tile (the same meaning; for "
-                         "comparison; pinhole camera only)");
+    cmd_render->add_flag(
+        "--per-ray", render.per_ray,
+        "One independent ray per pixel from the camera: certified without the "
+        "coherent renderer, the Lipschitz tracers (sphere, enhanced, segment, "
+        "octree, bvh) and march without the cone march of each tile (the same meaning; for "
+        "comparison; pinhole camera only)");
     cmd_render->add_option("--eye", render.eye, "Camera position X Y Z (default: auto-framed)")
         ->expected(3);
     cmd_render->add_option("--target", render.target, "Point the camera looks at, X Y Z")

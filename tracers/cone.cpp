@@ -154,7 +154,8 @@ void ConeMarch::node(Walk& w, unsigned i0, unsigned j0, unsigned i1, unsigned j1
             // A local λ over a box holding p is at least ‖∇f(p)‖: where that is ≥ λ/2 it cannot
             // beat the global bound by 2×, and the gradient at p costs a fraction of it.
             bool tight = false;
-            if (!(d >= rho / 2) && lambda_ < kInf) {
+            if (!options_.local_bounds) tight = true;
+            if (!tight && !(d >= rho / 2) && lambda_ < kInf) {
                 ++w.evals.gradient;
                 ++evals;
                 const Dual<double, 3> g = expr::gradient(regions_.at(p), p);

@@ -61,6 +61,8 @@ struct ConeOptions {
     unsigned max_steps = 128;
     /// The least distance bound tried by a local λ (ρ ≥ 16·epsilon, as sphere tracing's).
     double epsilon = 1e-6;
+    /// Off: the global λ alone (no gradient evaluation at all).
+    bool local_bounds = true;
 };
 
 /// The march over one scene (see the file contract). Thread-safe after construction.

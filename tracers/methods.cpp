@@ -202,7 +202,7 @@ const std::vector<Entry>& entries() {
           "interval bisection with interval Newton (Snyder 1992)",
           {"budget", "tighten"},
           {{"budget", {30, 100, 1000, 20000}}},
-          false},
+          ConeMarching::None},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_certified(tape, o, false);
          }},
@@ -213,7 +213,7 @@ const std::vector<Entry>& entries() {
           "evaluation)",
           {"budget", "tighten"},
           {{"budget", {30, 100, 1000, 20000}}},
-          false},
+          ConeMarching::None},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_certified(tape, o, true);
          }},
@@ -223,7 +223,7 @@ const std::vector<Entry>& entries() {
           "approximate (skips features thinner than the step)",
           {"step", "epsilon", "budget", "bounds", "seconds"},
           {{"step", {0.1, 0.03, 0.01, 0.003}}},
-          false},
+          ConeMarching::Global},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              const TraceOptions topt = trace_options(o);
              auto regions = region_tapes(tape, o);
@@ -243,7 +243,7 @@ const std::vector<Entry>& entries() {
           "budget, segment tracing; never steps past the first root",
           {"epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}},
-          true},
+          ConeMarching::Local},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_lipschitz_tracer(tape, o, &sphere_trace);
          }},
@@ -253,7 +253,7 @@ const std::vector<Entry>& entries() {
           "the step-back rule, same guarantee",
           {"kappa", "epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}, {"kappa", {0.2, 0.5}}},
-          true},
+          ConeMarching::Local},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_lipschitz_tracer(tape, o, &enhanced_trace);
          }},
@@ -263,7 +263,7 @@ const std::vector<Entry>& entries() {
           "the DAG's interval derivatives; never steps past the first root",
           {"epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}},
-          true},
+          ConeMarching::Local},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_clipped_tracer(tape, o, &segment_trace);
          }},
@@ -274,7 +274,7 @@ const std::vector<Entry>& entries() {
           "it), outside them the full tape",
           {"budget", "bounds"},
           {{"budget", {30, 100, 1000, 20000}}},
-          false},
+          ConeMarching::None},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto scene = std::make_shared<const BoundedScene>(tape, octree_bounds(o));
              const std::uint64_t budget = o.budget;
@@ -288,7 +288,7 @@ const std::vector<Entry>& entries() {
           "outside the bounds with the full tape",
           {"budget", "bounds", "depth", "tighten"},
           {{"budget", {30, 100, 1000, 20000}}, {"depth", {3, 7}}},
-          false},
+          ConeMarching::None},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto tree = std::make_shared<const Octree>(
                  tape, octree_bounds(o), OctreeOptions{o.depth, std::size_t{1} << 20});
@@ -305,7 +305,7 @@ const std::vector<Entry>& entries() {
           "bound or left undecided after 16 steps; approximate, never steps past the first root",
           {"epsilon", "budget", "bounds", "depth", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}, {"depth", {3, 7}}},
-          true},
+          ConeMarching::Local},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto tree = std::make_shared<const Octree>(
                  tape, octree_bounds(o), OctreeOptions{o.depth, std::size_t{1} << 20});
@@ -324,7 +324,7 @@ const std::vector<Entry>& entries() {
           "approximate, never steps past the first root",
           {"epsilon", "budget", "bounds", "seconds"},
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}},
-          true},
+          ConeMarching::Local},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto scene = std::make_shared<const BoundedScene>(tape, octree_bounds(o));
              return inside_and_out(tape, scene->bounds(), trace_options(o),
@@ -348,7 +348,7 @@ const std::vector<Entry>& entries() {
           "and Bernstein clipping above (certified)",
           {"budget"},
           {},
-          false},
+          ConeMarching::None},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_analytic(tape, o, solvers::AnalyticOptions::Mode::ClosedForm, "analytic");
          }},
@@ -358,7 +358,7 @@ const std::vector<Entry>& entries() {
           "clipping (Nishita 1994) on the interval coefficients",
           {"budget"},
           {},
-          false},
+          ConeMarching::None},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              return make_analytic(tape, o, solvers::AnalyticOptions::Mode::Bernstein, "bernstein");
          }},
@@ -369,7 +369,7 @@ const std::vector<Entry>& entries() {
           "doubles, with its multiplicity; tangent and clustered roots proven; degree at most 64",
           {"budget"},
           {},
-          false},
+          ConeMarching::None},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              const std::string why = solvers::why_not_exact_polynomial(tape);
              if (!why.empty()) {
@@ -390,7 +390,7 @@ const std::vector<Entry>& entries() {
           "(Sherstyuk 1999); approximate (misses features thinner than the spacing)",
           {"samples"},
           {{"samples", {8, 32, 128}}},
-          false},
+          ConeMarching::None},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              solvers::HermiteOptions opt;
              opt.samples = o.samples;
@@ -406,7 +406,7 @@ const std::vector<Entry>& entries() {
           "on the pruned tape; the ray outside the bounds with the full tape",
           {"budget", "bounds", "depth", "tighten"},
           {{"depth", {3, 5, 7}}},
-          false},
+          ConeMarching::None},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto approx =
                  std::make_shared<const Approx>(tape, octree_bounds(o), approx_options(o));
@@ -423,7 +423,7 @@ const std::vector<Entry>& entries() {
           "bounds; approximate (may miss or invent roots)",
           {"bounds", "depth"},
           {{"depth", {3, 5, 7}}},
-          false},
+          ConeMarching::None},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              auto approx =
                  std::make_shared<const Approx>(tape, octree_bounds(o), approx_options(o));
@@ -435,7 +435,7 @@ const std::vector<Entry>& entries() {
           "the ground truth of the benchmarks (about 100x slower)",
           {"budget"},
           {},
-          false},
+          ConeMarching::None},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
              solvers::CertifiedOptions opt;
              opt.budget = o.budget;

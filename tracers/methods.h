@@ -66,6 +66,13 @@ struct MethodOptions {
     std::optional<std::array<Interval, 3>> bounds;
 };
 
+/// Whether and how an image cone-marches a method's rays (MethodInfo::cone).
+enum class ConeMarching : std::uint8_t {
+    None,    ///< every ray from the camera
+    Global,  ///< free balls of the global Lipschitz bound only (ConeOptions::local_bounds off)
+    Local,   ///< and of local bounds where the global one is loose
+};
+
 /// One ray in, one answer out; thread-safe.
 using RayFunction = std::function<RayResult(const Ray&)>;
 
@@ -105,11 +112,14 @@ struct MethodInfo {
     std::vector<std::string_view> knobs;
     /// Its sweep in the study (first knob first); empty: the defaults only.
     std::vector<Sweep> sweep;
-    /// True for the tracers that never step past the first root given Lipschitz bounds of f
-    /// (sphere, enhanced, segment, octree, bvh): an image starts their rays where a cone march
-    /// proved them free (tracers/cone.h, RenderOptions::cone), their own kind of proof shared by
-    /// a tile (docs/benchmarks.md, "Cone marching").
-    bool cone = false;
+    /// How an image shares the empty space in front of this method's rays (tracers/cone.h,
+    /// RenderOptions::cone): the tracers that never step past the first root given Lipschitz
+    /// bounds (sphere, enhanced, segment, octree, bvh) start each ray where a cone march of its
+    /// tile proved it free, with the global and local bounds their own steps use; ray marching
+    /// (march), whose samples could only see f of one sign there, with the global bound alone
+    /// (its own steps are cheap: local bounds cost it more than they save). docs/benchmarks.md,
+    /// "Cone marching".
+    ConeMarching cone = ConeMarching::None;
 };
 
 /// Every method, in the order `--help` lists them.

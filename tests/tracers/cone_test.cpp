@@ -97,6 +97,7 @@ TEST(ConeMarch, NeverPassesTheFirstRoot) {
         const expr::Tape tape(expr::parse_expr(union_of(balls)));
         ConeOptions copt;
         copt.max_steps = 1000;
+        copt.local_bounds = scene % 2 == 0;  // half of the scenes with the global λ alone
         const ConeMarch march(tape, bounds, copt);
         Camera cam;
         const Vec3 dir = normalize({u(rng), u(rng), u(rng)});
@@ -198,12 +199,13 @@ TEST(ConeMarch, ImagesKeepTheAnswers) {
     o.threads = 2;
     MethodOptions mo;
     mo.bounds = std::array<Interval, 3>{Interval(-2, 2), Interval(-2, 2), Interval(-2, 2)};
-    ConeOptions copt;
-    copt.epsilon = mo.epsilon;
-    const ConeMarch march(tape, o.bounds, copt);
     const CameraFrame frame(o.camera, o.width, o.height);
     for (const MethodInfo& info : method_infos()) {
-        if (!info.cone) continue;
+        if (info.cone == ConeMarching::None) continue;
+        ConeOptions copt;
+        copt.epsilon = mo.epsilon;
+        copt.local_bounds = info.cone == ConeMarching::Local;
+        const ConeMarch march(tape, o.bounds, copt);
         const RayFunction fn = make_method(info.name, tape, mo);
         RenderOptions with = o;
         with.cone = &march;
