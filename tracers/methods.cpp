@@ -62,20 +62,6 @@ bool clip(const MethodOptions& o, Ray& ray) {
     return ray.tmin <= ray.tmax;
 }
 
-/// A tracer that needs no λ (segment), on each ray clipped to the bounds.
-RayFunction make_clipped_tracer(const expr::Tape& tape, const MethodOptions& o,
-                                RayResult (*trace)(const expr::Tape&, const Ray&,
-                                                   const TraceOptions&)) {
-    const TraceOptions topt = trace_options(o);
-    return [&tape, o, topt, trace](const Ray& r) {
-        Ray ray = r;
-        RayResult miss;
-        miss.status = Status::Miss;
-        if (!clip(o, ray)) return miss;
-        return trace(tape, ray, topt);
-    };
-}
-
 /// The certified solver with the options' budget (and the affine refinement if asked).
 RayFunction make_certified(const expr::Tape& tape, const MethodOptions& o, bool affine) {
     solvers::CertifiedOptions opt;
@@ -100,9 +86,11 @@ std::shared_ptr<const RegionTapes> region_tapes(const expr::Tape& tape, const Me
 }
 
 /// `res`, an answer on `ray`, unless it is Unknown with evaluations and time left: then segment
-/// tracing on [res.t_lo, ray.tmax] (no root lies before res.t_lo), with the evaluations of both.
+/// tracing on [res.t_lo, ray.tmax] (no root lies before res.t_lo), with the evaluations of both;
+/// its passes from `regions`' tapes where shorter (SegmentOptions::regions).
 RayResult segments_after(const expr::Tape& tape, const Ray& ray, const RayResult& res,
-                         const TraceOptions& topt, const Deadline& deadline) {
+                         const TraceOptions& topt, const Deadline& deadline,
+                         const RegionTapes* regions) {
     if (res.status != Status::Unknown || !(res.t_lo >= ray.tmin && res.t_lo <= ray.tmax) ||
         res.evals.total() >= topt.budget || deadline.passed()) {
         return res;
@@ -110,7 +98,9 @@ RayResult segments_after(const expr::Tape& tape, const Ray& ray, const RayResult
     TraceOptions opt = topt;
     opt.budget = topt.budget - res.evals.total();
     opt.seconds = deadline.seconds_left();
-    RayResult rest = segment_trace(tape, Ray{ray.o, ray.d, res.t_lo, ray.tmax}, opt);
+    SegmentOptions so;
+    so.regions = regions;
+    RayResult rest = segment_trace(tape, Ray{ray.o, ray.d, res.t_lo, ray.tmax}, opt, so);
     rest.evals += res.evals;
     return rest;
 }
@@ -156,7 +146,7 @@ RayFunction make_lipschitz_tracer(const expr::Tape& tape, const MethodOptions& o
             res = trace(*regions, ray, lambda, first);
         }
         res.evals.gradient += extra;
-        return segments_after(tape, ray, res, topt, deadline);
+        return segments_after(tape, ray, res, topt, deadline, regions.get());
     };
 }
 
@@ -265,7 +255,18 @@ const std::vector<Entry>& entries() {
           {{"epsilon", {1e-2, 1e-4, 1e-6, 1e-9}}},
           ConeMarching::Local},
          [](const expr::Tape& tape, const MethodOptions& o) -> RayFunction {
-             return make_clipped_tracer(tape, o, &segment_trace);
+             // Each pass from the tape of the region holding its segment where that is shorter.
+             auto regions = region_tapes(tape, o);
+             const TraceOptions topt = trace_options(o);
+             return [&tape, o, topt, regions](const Ray& r) {
+                 Ray ray = r;
+                 RayResult miss;
+                 miss.status = Status::Miss;
+                 if (!clip(o, ray)) return miss;
+                 SegmentOptions so;
+                 so.regions = regions.get();
+                 return segment_trace(tape, ray, topt, so);
+             };
          }},
         {{"certified-bvh",
           true,
@@ -337,7 +338,8 @@ const std::vector<Entry>& entries() {
                                        first.budget = std::min(opt.budget, kSphereSteps);
                                        return segments_after(
                                            scene->tape(), ray,
-                                           bounded_sphere_trace(*scene, ray, first), opt, deadline);
+                                           bounded_sphere_trace(*scene, ray, first), opt, deadline,
+                                           scene->region_tapes());
                                    });
          }},
         {{"analytic",

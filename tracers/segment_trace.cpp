@@ -15,6 +15,7 @@
 #include "expr/eval.h"
 #include "expr/prune.h"
 #include "tracers/ray_jet.h"
+#include "tracers/region_tapes.h"
 
 namespace certray::tracers {
 
@@ -173,7 +174,10 @@ struct Scratch {
     std::array<double, kLevels> lo{}, hi{};
     int depth = 0;
 
-    void start(const expr::Tape& tape, std::size_t sweep_pruned_above) {
+    const RegionTapes* regions = nullptr;
+
+    void start(const expr::Tape& tape, std::size_t sweep_pruned_above, const RegionTapes* r) {
+        regions = r;
         depth = 0;
         sweep_above = sweep_pruned_above;
         list[0] = &tape.ssa();
@@ -219,10 +223,25 @@ struct Scratch {
         while (depth > 0 && !(lo[depth] <= t && end <= hi[depth])) --depth;
         const double end0 = end;
         bool plain_pushed = false;
-        if (prune && may_sweep && list[depth]->size() > (depth == 0 ? kSweep : sweep_above)) {
+        // The list to start from: the window's, or the tape of the region holding the segment's
+        // box when shorter (the same function there).
+        const std::vector<expr::Instr>* base = list[depth];
+        bool whole = depth == 0;
+        if (prune && regions != nullptr && end < kInf) {
+            std::array<Interval, 3> box;
+            for (int i = 0; i < 3; ++i) {
+                box[i] = Interval(ray.o[i]) + Interval(t, end) * Interval(ray.d[i]);
+            }
+            const std::vector<expr::Instr>& cell = regions->at(box).ssa();
+            if (cell.size() < base->size()) {
+                base = &cell;
+                whole = false;
+            }
+        }
+        if (prune && may_sweep && base->size() > (whole ? kSweep : sweep_above)) {
             // The plain enclosures first (the vt parts of this same evaluation), and the
             // derivative parts below only for the instructions that survive pruning by them.
-            const std::vector<expr::Instr>& src = *list[depth];
+            const std::vector<expr::Instr>& src = *base;
             if (values.size() < src.size()) values.resize(src.size());
             {
                 RoundingScope scope;
@@ -237,7 +256,7 @@ struct Scratch {
             }
             plain_pushed = push_values(src, t, end);
         }
-        const std::vector<expr::Instr>& ssa = *list[depth];
+        const std::vector<expr::Instr>& ssa = plain_pushed ? *list[depth] : *base;
         const std::size_t n = ssa.size();
         if (regs.size() < n) regs.resize(n);
         SegmentModel& m = step.m;
@@ -292,7 +311,7 @@ RayResult segment_trace(const expr::Tape& tape, const Ray& ray, const TraceOptio
     if (dn == 0 || ray.tmin == ray.tmax) return detail::degenerate(tape, ray);
     const double eps_t = detail::div_down(opt.epsilon, dn);  // epsilon in units of t
     thread_local Scratch scratch;
-    scratch.start(tape, so.sweep_pruned_above);
+    scratch.start(tape, so.sweep_pruned_above, so.regions);
     double t = ray.tmin;
     double s = kInf;  // the first segment is the whole ray
     const Deadline deadline(opt.seconds);

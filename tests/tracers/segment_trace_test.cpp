@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <random>
 #include <string>
 
@@ -25,6 +26,7 @@
 #include "tests/support/mpfr_oracle.h"
 #include "tests/support/random_dag.h"
 #include "tracers/camera.h"
+#include "tracers/region_tapes.h"
 
 namespace certray::tracers {
 namespace {
@@ -188,6 +190,16 @@ TEST(SegmentModel, BlobFalloffIsSmoothAcrossItsSupport) {
 /// Every named variant (tracers/segment_trace.h): each must keep the guarantee.
 std::vector<SegmentOptions> variants() { return segment_presets(); }
 
+/// Region tapes of t over the ray's segment box widened by 1 (SegmentOptions::regions).
+std::unique_ptr<RegionTapes> regions_along(const Tape& t, const Ray& ray) {
+    std::array<Interval, 3> box;
+    for (int i = 0; i < 3; ++i) {
+        const double a = ray.o[i] + ray.tmin * ray.d[i], b = ray.o[i] + ray.tmax * ray.d[i];
+        box[i] = Interval(std::min(a, b) - 1, std::max(a, b) + 1);
+    }
+    return std::make_unique<RegionTapes>(t, box);
+}
+
 /// Against the certified answer c: a traced hit is never past the certified first root's
 /// enclosure; a traced hit with a bracket (t_hi > t_lo: a zero proven in it) is never on a
 /// certified miss and has the certified first root at or before t_hi (an approximate hit may be
@@ -229,7 +241,12 @@ RC_GTEST_PROP(SegmentTrace, RandomDagsNeverPastFirstRoot, ()) {
     o.budget = 500;
     o.epsilon = *rc::gen::element(1e-6, 1e-3);
     const RayResult c = solvers::certified_first_root(t, ray);
-    for (const SegmentOptions& so : variants()) {
+    const auto regions = regions_along(t, ray);
+    std::vector<SegmentOptions> all = variants();
+    all.push_back({});
+    all.back().name = "regions";
+    all.back().regions = regions.get();
+    for (const SegmentOptions& so : all) {
         const RayResult r = segment_trace(t, ray, o, so);
         RC_LOG() << describe(so, ray, r, c);
         RC_ASSERT(r.evals.total() <= o.budget);
@@ -253,7 +270,12 @@ RC_GTEST_PROP(SegmentTrace, BlobSumsNeverPastFirstRoot, ()) {
     TraceOptions o;
     o.budget = 500;
     const RayResult c = solvers::certified_first_root(t, ray);
-    for (const SegmentOptions& so : variants()) {
+    const auto regions = regions_along(t, ray);
+    std::vector<SegmentOptions> all = variants();
+    all.push_back({});
+    all.back().name = "regions";
+    all.back().regions = regions.get();
+    for (const SegmentOptions& so : all) {
         const RayResult r = segment_trace(t, ray, o, so);
         RC_LOG() << describe(so, ray, r, c);
         RC_ASSERT(agrees(c, r));
