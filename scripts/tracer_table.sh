@@ -12,7 +12,8 @@ shift || true
 B=build/apps/certray
 for f in tanglecube barth_sextic chmutov6 clebsch_cubic kummer_quartic mitchell steiner_roman \
     tangle_knoll test particles molecule; do
-    path=$(ls scenes/$f.vm scenes/$f.json scenes/$f.txt 2>/dev/null | head -1)
+    path=""
+    for ext in vm json txt; do [ -f "scenes/$f.$ext" ] && path="scenes/$f.$ext"; done
     c=$($B render "$path" -o /tmp/tracer_table.png --size ${N}x$N --surface zero --threads 2 -q |
         tail -1 | sed 's/.* \([0-9.e-]*\) s on.*/\1/')
     line="| $f | $c s"
