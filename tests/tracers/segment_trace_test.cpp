@@ -190,6 +190,15 @@ TEST(SegmentModel, BlobFalloffIsSmoothAcrossItsSupport) {
 /// Every named variant (tracers/segment_trace.h): each must keep the guarantee.
 std::vector<SegmentOptions> variants() { return segment_presets(); }
 
+/// The presets, and the default with `regions` (SegmentOptions::regions).
+std::vector<SegmentOptions> variants_and(const RegionTapes* regions) {
+    std::vector<SegmentOptions> all = variants();
+    all.push_back({});
+    all.back().name = "regions";
+    all.back().regions = regions;
+    return all;
+}
+
 /// Region tapes of t over the ray's segment box widened by 1 (SegmentOptions::regions).
 std::unique_ptr<RegionTapes> regions_along(const Tape& t, const Ray& ray) {
     std::array<Interval, 3> box;
@@ -242,11 +251,7 @@ RC_GTEST_PROP(SegmentTrace, RandomDagsNeverPastFirstRoot, ()) {
     o.epsilon = *rc::gen::element(1e-6, 1e-3);
     const RayResult c = solvers::certified_first_root(t, ray);
     const auto regions = regions_along(t, ray);
-    std::vector<SegmentOptions> all = variants();
-    all.push_back({});
-    all.back().name = "regions";
-    all.back().regions = regions.get();
-    for (const SegmentOptions& so : all) {
+    for (const SegmentOptions& so : variants_and(regions.get())) {
         const RayResult r = segment_trace(t, ray, o, so);
         RC_LOG() << describe(so, ray, r, c);
         RC_ASSERT(r.evals.total() <= o.budget);
@@ -271,11 +276,7 @@ RC_GTEST_PROP(SegmentTrace, BlobSumsNeverPastFirstRoot, ()) {
     o.budget = 500;
     const RayResult c = solvers::certified_first_root(t, ray);
     const auto regions = regions_along(t, ray);
-    std::vector<SegmentOptions> all = variants();
-    all.push_back({});
-    all.back().name = "regions";
-    all.back().regions = regions.get();
-    for (const SegmentOptions& so : all) {
+    for (const SegmentOptions& so : variants_and(regions.get())) {
         const RayResult r = segment_trace(t, ray, o, so);
         RC_LOG() << describe(so, ray, r, c);
         RC_ASSERT(agrees(c, r));
