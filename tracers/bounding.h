@@ -70,7 +70,7 @@ class BoundedScene {
         std::array<std::uint32_t, 4> leaf{~0u, ~0u, ~0u, ~0u};
         std::array<detail::LocalBox, 4> boxes{};
         std::array<bool, 4> probed{};  ///< the gradient at a point compared with the leaf's λ
-        std::array<bool, 4> tight{};   ///< and found ≥ λ/2: no local bound on that leaf
+        std::array<bool, 4> tight{};   ///< and found ≥ λ/4: no local bound on that leaf
         unsigned next = 0;
     };
 

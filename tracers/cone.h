@@ -12,8 +12,8 @@
 // ‖q − p‖ < D, since |f(q) − f(p)| ≤ λ‖q − p‖ < |f(p)| on the segment [p, q] ⊂ C. C is the
 // bounds (λ: expr::lipschitz_bound over them, computed once) or the box of half-side ρ around p
 // cut to the bounds (a local λ; then D ≤ ρ, as tracers/march.h's local_distance_bound), tried
-// where the global D is below ρ/2 and ‖∇f(p)‖ (in double) below λ/2 — else no local λ could beat
-// the global one by 2×. The box of
+// where the global D is below ρ/2 and ‖∇f(p)‖ (in double) below λ/4 — else no local λ could beat
+// the global one by 4×, too little for its cost. The box of
 // every active ray's points over [t, t + δ] (o + [t, t + δ]·d over the rays' o and d, outward
 // rounded) lies inside that ball when its farthest corner from p is nearer than D (rounded up):
 // then every active ray is free on [t, t + δ]. Steps are taken front to back from the least tmin
