@@ -141,11 +141,12 @@ TEST(ConeMarch, NeverPassesTheFirstRoot) {
     EXPECT_GT(freed, misses / 2) << "the march proved few misses";
 }
 
-// A ray the march advances toward a ball it hits gets close to it: the start of every hit ray
-// of a single ball seen from afar is at least half of the way from the bounds to the root.
+// A ray the march advances toward a ball it hits gets close to it: with the ball's distance
+// (λ = 1, tight), the start of every hit ray seen from afar is at least half of the way from the
+// bounds to the root.
 TEST(ConeMarch, AdvancesTheRaysThatHit) {
     const std::vector<Ball> balls = {{{0, 0, 0}, 1}};
-    const expr::Tape tape(expr::parse_expr(union_of(balls)));
+    const expr::Tape tape(expr::parse_expr("sqrt(x^2 + y^2 + z^2) - 1"));
     const Box3 bounds{{{-2, 2}, {-2, 2}, {-2, 2}}};
     ConeOptions copt;
     copt.max_steps = 1000;
