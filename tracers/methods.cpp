@@ -100,6 +100,7 @@ RayResult segments_after(const expr::Tape& tape, const Ray& ray, const RayResult
     opt.seconds = deadline.seconds_left();
     SegmentOptions so;
     so.regions = regions;
+    if (regions) so.first_length = regions->leaf_size();
     RayResult rest = segment_trace(tape, Ray{ray.o, ray.d, res.t_lo, ray.tmax}, opt, so);
     rest.evals += res.evals;
     return rest;
@@ -265,6 +266,7 @@ const std::vector<Entry>& entries() {
                  if (!clip(o, ray)) return miss;
                  SegmentOptions so;
                  so.regions = regions.get();
+                 so.first_length = regions->leaf_size();
                  return segment_trace(tape, ray, topt, so);
              };
          }},

@@ -182,6 +182,12 @@ const RegionTapes::Node* RegionTapes::build_child(const Node& parent, int k, con
     return c;
 }
 
+double RegionTapes::leaf_size() const noexcept {
+    double side = 0;
+    for (const Interval& b : bounds_) side = std::max(side, b.upper() - b.lower());
+    return std::ldexp(side, -options_.max_depth);
+}
+
 const expr::Tape& RegionTapes::at(const Box& q) const {
     if (q[0].is_empty() || q[1].is_empty() || q[2].is_empty() || !root_->holds(q)) return tape_;
     const Node* c = root_.get();

@@ -96,6 +96,8 @@ class RegionTapes {
     /// The full tape.
     const expr::Tape& tape() const noexcept { return tape_; }
     const Box& bounds() const noexcept { return bounds_; }
+    /// The largest side of a cell at the deepest level (the bounds' largest side / 2^max_depth).
+    double leaf_size() const noexcept;
     RegionStats stats() const;
 
   private:

@@ -313,7 +313,8 @@ RayResult segment_trace(const expr::Tape& tape, const Ray& ray, const TraceOptio
     thread_local Scratch scratch;
     scratch.start(tape, so.sweep_pruned_above, so.regions);
     double t = ray.tmin;
-    double s = kInf;  // the first segment is the whole ray
+    // The first segment: the whole ray, or first_length in space units.
+    double s = so.first_length > 0 ? so.first_length / dn : kInf;
     const Deadline deadline(opt.seconds);
     while (true) {
         if (r.evals.total() >= opt.budget || deadline.passed()) return unknown(t);

@@ -112,6 +112,11 @@ struct SegmentOptions {
     /// up to the roundings of the shorter list. Molecule, particles: the first passes of a ray
     /// otherwise sweep the whole tape (16,009 and 21,014 instructions).
     const RegionTapes* regions = nullptr;
+    /// The first segment's length in space units; 0: the whole ray (Galin's rule). The registry
+    /// sets it to a region cell's size where it gives `regions` (the first pass then fits a cell
+    /// and its tape; the image's cone march has brought the ray near its surface): Lipschitz-
+    /// Pruning's molecule at 256² 13.7 → 6.5 s, from the camera 98.6 → 74.3 s.
+    double first_length = 0;
 };
 
 /// Segment tracing with the default variant (see the file contract).

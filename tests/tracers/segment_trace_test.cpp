@@ -190,12 +190,13 @@ TEST(SegmentModel, BlobFalloffIsSmoothAcrossItsSupport) {
 /// Every named variant (tracers/segment_trace.h): each must keep the guarantee.
 std::vector<SegmentOptions> variants() { return segment_presets(); }
 
-/// The presets, and the default with `regions` (SegmentOptions::regions).
+/// The presets, and the default with `regions` and a short first segment, as the registry runs it.
 std::vector<SegmentOptions> variants_and(const RegionTapes* regions) {
     std::vector<SegmentOptions> all = variants();
     all.push_back({});
     all.back().name = "regions";
     all.back().regions = regions;
+    all.back().first_length = 0.1;  // the registry's: a first segment of a cell's size
     return all;
 }
 
