@@ -303,11 +303,9 @@ Interval BoundedScene::leaf_distance(const Leaf& l, const Box& p, double db, dou
             // tenth of a bound over a box on a long leaf); where it shows the leaf's λ tight, no
             // local bound is tried on that leaf for the rest of the ray.
             ++leaf_evals;
-            std::array<double, 3> c;
-            for (int i = 0; i < 3; ++i) c[i] = midpoint(p[i]);
-            const Dual<double, 3> g = expr::gradient(l.regions ? l.regions->at(p) : l.tape, c);
-            const bool tight =
-                4 * std::sqrt(g.v[0] * g.v[0] + g.v[1] * g.v[1] + g.v[2] * g.v[2]) >= l.lambda;
+            const bool tight = 4 * detail::gradient_norm(l.regions ? l.regions->at(p) : l.tape,
+                                                         detail::midpoint(p)) >=
+                               l.lambda;
             if (tries) {
                 tries->probed[slot] = true;
                 tries->tight[slot] = tight;

@@ -160,9 +160,7 @@ void ConeMarch::node(Walk& w, unsigned i0, unsigned j0, unsigned i1, unsigned j1
             if (!tight && !(d >= rho / 2) && lambda_ < kInf) {
                 ++w.evals.gradient;
                 ++evals;
-                const Dual<double, 3> g = expr::gradient(regions_.at(p), p);
-                tight =
-                    4 * std::sqrt(g.v[0] * g.v[0] + g.v[1] * g.v[1] + g.v[2] * g.v[2]) >= lambda_;
+                tight = 4 * detail::gradient_norm(regions_.at(p), p) >= lambda_;
             }
             if (!(d >= rho / 2) && !tight) {
                 ++w.evals.gradient;

@@ -49,27 +49,6 @@ Interval distance_bound(const Interval& v, double lambda) {
                     std::nextafter(v.upper() / lambda, kInf));
 }
 
-Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval, 3>& p,
-                              const Interval& v, double rho, const RegionTapes* regions,
-                              const std::array<Interval, 3>* within) {
-    std::array<Interval, 3> local;
-    for (int i = 0; i < 3; ++i) {
-        double lo = std::nextafter(p[i].lower() - rho, -kInf);
-        double hi = std::nextafter(p[i].upper() + rho, kInf);
-        if (within) {
-            lo = std::max(lo, (*within)[i].lower());
-            hi = std::min(hi, (*within)[i].upper());
-            if (!(lo <= hi)) return Interval::empty();
-        }
-        local[i] = Interval(lo, hi);
-    }
-    const double lam = expr::lipschitz_bound(regions ? regions->at(local) : tape, local);
-    if (!(lam > 0 && lam < kInf)) return Interval::empty();
-    const Interval q = distance_bound(v, lam);
-    if (q.lower() > 0) return Interval(std::min(q.lower(), rho), std::min(q.upper(), rho));
-    return Interval(std::max(q.lower(), -rho), std::max(q.upper(), -rho));
-}
-
 namespace {
 
 /// min(|v|/λ, ρ) with v's sign (v certainly non-zero); empty unless λ is finite and positive.
@@ -119,6 +98,26 @@ Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval,
     cache.box = box;
     cache.lambda = expr::lipschitz_bound(regions ? regions->at(box) : tape, box);
     return capped(v, cache.lambda, rho);
+}
+
+Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval, 3>& p,
+                              const Interval& v, double rho, const RegionTapes* regions,
+                              const std::array<Interval, 3>* within) {
+    static const std::array<Interval, 3> kEverywhere{Interval(-kInf, kInf), Interval(-kInf, kInf),
+                                                     Interval(-kInf, kInf)};
+    LocalBox fresh;
+    bool evaluated = false;
+    return local_distance_bound(tape, p, v, rho, regions, within ? *within : kEverywhere, fresh,
+                                evaluated);
+}
+
+double gradient_norm(const expr::Tape& tape, const std::array<double, 3>& p) {
+    const Dual<double, 3> g = expr::gradient(tape, p);
+    return std::sqrt(g.v[0] * g.v[0] + g.v[1] * g.v[1] + g.v[2] * g.v[2]);
+}
+
+std::array<double, 3> midpoint(const std::array<Interval, 3>& p) {
+    return {certray::midpoint(p[0]), certray::midpoint(p[1]), certray::midpoint(p[2])};
 }
 
 std::array<Interval, 3> segment_box(const Ray& ray) {

@@ -133,6 +133,13 @@ Interval local_distance_bound(const expr::Tape& tape, const std::array<Interval,
                               const std::array<Interval, 3>& within, LocalBox& cache,
                               bool& evaluated);
 
+/// ‖∇f(p)‖ in double (one gradient evaluation). A local λ over any box holding p is at least this:
+/// where it is ≥ λ/k, no local bound can beat λ by k× (the tracers' gradient probe).
+double gradient_norm(const expr::Tape& tape, const std::array<double, 3>& p);
+
+/// The centre of a point's box.
+std::array<double, 3> midpoint(const std::array<Interval, 3>& p);
+
 /// The box of the ray's segment o + [tmin, tmax]·d, rounded outward (infinite where tmax is).
 std::array<Interval, 3> segment_box(const Ray& ray);
 

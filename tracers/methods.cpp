@@ -85,6 +85,15 @@ std::shared_ptr<const RegionTapes> region_tapes(const expr::Tape& tape, const Me
     return std::make_shared<const RegionTapes>(tape, octree_bounds(o));
 }
 
+/// The registry's segment tracing: each pass from `regions`' tapes where shorter, and a first
+/// segment one region cell long (SegmentOptions::regions, first_length); the defaults without.
+SegmentOptions segment_options(const RegionTapes* regions) {
+    SegmentOptions so;
+    so.regions = regions;
+    if (regions) so.first_length = regions->leaf_size();
+    return so;
+}
+
 /// `res`, an answer on `ray`, unless it is Unknown with evaluations and time left: then segment
 /// tracing on [res.t_lo, ray.tmax] (no root lies before res.t_lo), with the evaluations of both;
 /// its passes from `regions`' tapes where shorter (SegmentOptions::regions).
@@ -98,10 +107,8 @@ RayResult segments_after(const expr::Tape& tape, const Ray& ray, const RayResult
     TraceOptions opt = topt;
     opt.budget = topt.budget - res.evals.total();
     opt.seconds = deadline.seconds_left();
-    SegmentOptions so;
-    so.regions = regions;
-    if (regions) so.first_length = regions->leaf_size();
-    RayResult rest = segment_trace(tape, Ray{ray.o, ray.d, res.t_lo, ray.tmax}, opt, so);
+    RayResult rest =
+        segment_trace(tape, Ray{ray.o, ray.d, res.t_lo, ray.tmax}, opt, segment_options(regions));
     rest.evals += res.evals;
     return rest;
 }
@@ -264,10 +271,7 @@ const std::vector<Entry>& entries() {
                  RayResult miss;
                  miss.status = Status::Miss;
                  if (!clip(o, ray)) return miss;
-                 SegmentOptions so;
-                 so.regions = regions.get();
-                 so.first_length = regions->leaf_size();
-                 return segment_trace(tape, ray, topt, so);
+                 return segment_trace(tape, ray, topt, segment_options(regions.get()));
              };
          }},
         {{"certified-bvh",

@@ -51,11 +51,8 @@ Interval tape_distance(const expr::Tape& tape, const RegionTapes* regions, const
             // bound can beat the global one by 2×, and a gradient at the point costs a fraction
             // of a bound over a box (a tenth on the molecule's region tapes). Decided once a ray.
             local.probed = true;
-            std::array<double, 3> c;
-            for (int i = 0; i < 3; ++i) c[i] = midpoint(p[i]);
-            const Dual<double, 3> g = expr::gradient(regions ? regions->at(p) : tape, c);
-            const double n = std::sqrt(g.v[0] * g.v[0] + g.v[1] * g.v[1] + g.v[2] * g.v[2]);
-            if (2 * n >= lambda) {
+            if (2 * detail::gradient_norm(regions ? regions->at(p) : tape, detail::midpoint(p)) >=
+                lambda) {
                 local.useful = false;
                 local.retry_below = global / 16;
                 local.previous = detail::mignitude(d);
