@@ -100,10 +100,16 @@ struct CoherentOptions {
     /// With depth_pixels: a node of at most this many open rays whose segments are each at most
     /// 8 pieces of that depth long is not divided further; its rays are scanned together, every
     /// piece of every ray one lane of one batched interval evaluation (docs/theory/coherent.md,
-    /// "Scanning rays together"). The answers are those of scanning each ray alone; ≤ 1: each
-    /// ray alone, at the end of the descent. 8 measured best of 4–64 on Barth's sextic, the
-    /// tanglecube, Chmutov's sextic and Fidget's bear and colonnade (docs/benchmarks.md).
+    /// "Scanning rays together"); a leaf of one ray is scanned in lanes the same way. 0: each
+    /// ray scanned alone, piece by piece, at the end of the descent (the reference the lanes are
+    /// tested against). 8 measured best of 4–64 on Barth's sextic, the tanglecube, Chmutov's
+    /// sextic and Fidget's bear and colonnade (docs/benchmarks.md).
     unsigned together_rays = 8;
+    /// In those lanes, pieces that their enclosure leaves undecided get the mean value form in t
+    /// at once, from a derivative computed in the same batched walk (expr/tangent.h), where the
+    /// list has only ops with such a rule (no abs, min, max, …). Off: the form is tried on one
+    /// ray's first undecided piece at a time, as a scan of one ray does.
+    bool lane_mean_value = true;
 };
 
 /// What the coherent walk did, summed over the image.
@@ -113,11 +119,13 @@ struct CoherentStats {
     std::uint64_t boxes_excluded = 0;    ///< boxes proven free of zeros (solid: f ≥ 0 on them)
     std::uint64_t boxes_inside = 0;      ///< solid: boxes proven inside (f < 0), rays answered
     std::uint64_t leaf_solves = 0;       ///< certified solves of one ray on one segment
-    std::uint64_t scans = 0;        ///< leaf segments decided by scanning pieces (depth_pixels)
-    std::uint64_t together = 0;     ///< of the scanned segments: scanned with other rays' at once
-    std::uint64_t fallbacks = 0;    ///< leaf Unknowns redone on the rest of the ray
-    std::uint64_t splits = 0;       ///< undecided one-ray leaf segments split in two again
-    std::uint64_t prunes = 0;       ///< boxes whose tape was shortened
+    std::uint64_t scans = 0;      ///< leaf segments decided by scanning pieces (depth_pixels)
+    std::uint64_t together = 0;   ///< of the scanned segments: scanned in lanes (scan_together)
+    std::uint64_t fallbacks = 0;  ///< leaf Unknowns redone on the rest of the ray
+    std::uint64_t splits = 0;     ///< undecided one-ray leaf segments split in two again
+    std::uint64_t prunes = 0;     ///< boxes whose tape was shortened
+    /// scanned pieces that the mean value form in lanes proved (CoherentOptions::lane_mean_value)
+    std::uint64_t lane_forms = 0;
     std::uint64_t tape_length = 0;  ///< instructions of the full tape
 };
 

@@ -29,9 +29,10 @@ namespace certray::testing {
 
 inline constexpr int kMaxDepth = 12;
 
-/// A random DAG with an output; `ops` is the number of non-leaf nodes requested.
-inline rc::Gen<expr::Graph> gen_dag(int max_ops = 24) {
-    return rc::gen::exec([max_ops] {
+/// A random DAG with an output; `ops` is the number of non-leaf nodes requested. `smooth`: only
+/// ops that are C¹ where defined (no abs, min, max), those expr/tangent.h has rules for.
+inline rc::Gen<expr::Graph> gen_dag(int max_ops = 24, bool smooth = false) {
+    return rc::gen::exec([max_ops, smooth] {
         using expr::Op;
         expr::Graph g;
         std::vector<expr::NodeId> nodes;
@@ -53,6 +54,9 @@ inline rc::Gen<expr::Graph> gen_dag(int max_ops = 24) {
                                                Op::Log, Op::Sin, Op::Cos,    Op::Pow};
         static const std::vector<Op> kBinary = {Op::Add, Op::Sub, Op::Mul,
                                                 Op::Div, Op::Min, Op::Max};
+        static const std::vector<Op> kSmoothUnary = {Op::Neg, Op::Square, Op::Sqrt, Op::Exp,
+                                                     Op::Log, Op::Sin,    Op::Cos,  Op::Pow};
+        static const std::vector<Op> kSmoothBinary = {Op::Add, Op::Sub, Op::Mul, Op::Div};
         for (int i = 0; i < ops; ++i) {
             // Prefer recent nodes so the output depends on most of the graph.
             auto pick = [&] {
@@ -62,7 +66,7 @@ inline rc::Gen<expr::Graph> gen_dag(int max_ops = 24) {
             };
             const int a = pick();
             if (*rc::gen::inRange(0, 3) == 0) {
-                const Op op = *rc::gen::elementOf(kUnary);
+                const Op op = *rc::gen::elementOf(smooth ? kSmoothUnary : kUnary);
                 if (depth[a] + 1 > kMaxDepth) continue;
                 const expr::NodeId id = op == Op::Pow ? g.pow(nodes[a], *rc::gen::inRange(0u, 6u))
                                                       : g.unary(op, nodes[a]);
@@ -71,7 +75,9 @@ inline rc::Gen<expr::Graph> gen_dag(int max_ops = 24) {
                 const int b = pick();
                 const int d = std::max(depth[a], depth[b]) + 1;
                 if (d > kMaxDepth) continue;
-                add(g.binary(*rc::gen::elementOf(kBinary), nodes[a], nodes[b]), d);
+                add(g.binary(*rc::gen::elementOf(smooth ? kSmoothBinary : kBinary), nodes[a],
+                             nodes[b]),
+                    d);
             }
         }
         g.set_output(nodes.back());

@@ -1,0 +1,145 @@
+// expr/tangent.cpp — forward-mode derivative along a direction, written as plain instructions.
+#include "expr/tangent.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace certray::expr {
+namespace {
+
+constexpr std::uint32_t kZero = std::numeric_limits<std::uint32_t>::max();
+
+/// Writes the tangent list: each emit() takes a fresh slot.
+class Writer {
+  public:
+    explicit Writer(std::uint32_t first) : next_(first) {}
+    std::uint32_t emit(Op op, std::uint32_t a = 0, std::uint32_t b = 0, double imm = 0) {
+        out.push_back({op, next_, a, b, imm});
+        return next_++;
+    }
+    std::uint32_t constant(double c) { return emit(Op::Const, 0, 0, c); }
+    /// A slot that no instruction writes (a seed).
+    std::uint32_t reserve() { return next_++; }
+    std::uint32_t slots() const { return next_; }
+    std::vector<Instr> out;
+
+  private:
+    std::uint32_t next_;
+};
+
+}  // namespace
+
+std::optional<TangentList> tangent_list(const std::vector<Instr>& list) {
+    if (list.empty()) return std::nullopt;
+    std::uint32_t end = 0;
+    for (const Instr& in : list) end = std::max(end, in.out + 1);
+    TangentList t;
+    Writer w(end);
+    for (std::uint32_t& s : t.seed) s = w.reserve();
+    std::vector<std::uint32_t> d(end, kZero);  // per slot of the list: its derivative's slot
+    std::uint32_t two = kZero;
+    for (const Instr& in : list) {
+        w.out.push_back(in);
+        const std::uint32_t da = arity(in.op) >= 1 ? d[in.a] : kZero;
+        const std::uint32_t db = arity(in.op) == 2 ? d[in.b] : kZero;
+        std::uint32_t r = kZero;
+        switch (in.op) {
+            case Op::Const:
+                break;
+            case Op::VarX:
+            case Op::VarY:
+            case Op::VarZ:
+                r = t.seed[static_cast<int>(in.op) - static_cast<int>(Op::VarX)];
+                break;
+            case Op::Neg:
+                if (da != kZero) r = w.emit(Op::Neg, da);
+                break;
+            case Op::Add:
+                if (da != kZero && db != kZero) {
+                    r = w.emit(Op::Add, da, db);
+                } else {
+                    r = da != kZero ? da : db;
+                }
+                break;
+            case Op::Sub:
+                if (da != kZero && db != kZero) {
+                    r = w.emit(Op::Sub, da, db);
+                } else if (da != kZero) {
+                    r = da;
+                } else if (db != kZero) {
+                    r = w.emit(Op::Neg, db);
+                }
+                break;
+            case Op::Mul:  // a′·b + a·b′
+                if (da != kZero && db != kZero) {
+                    r = w.emit(Op::Add, w.emit(Op::Mul, da, in.b), w.emit(Op::Mul, in.a, db));
+                } else if (da != kZero) {
+                    r = w.emit(Op::Mul, da, in.b);
+                } else if (db != kZero) {
+                    r = w.emit(Op::Mul, in.a, db);
+                }
+                break;
+            case Op::Square:  // (2·a)·a′
+                if (da != kZero) {
+                    if (two == kZero) two = w.constant(2.0);
+                    r = w.emit(Op::Mul, w.emit(Op::Mul, two, in.a), da);
+                }
+                break;
+            case Op::Div:  // (a′ − q·b′)/b with q = a/b
+                if (db != kZero) {
+                    const std::uint32_t qb = w.emit(Op::Mul, in.out, db);
+                    const std::uint32_t num =
+                        da != kZero ? w.emit(Op::Sub, da, qb) : w.emit(Op::Neg, qb);
+                    r = w.emit(Op::Div, num, in.b);
+                } else if (da != kZero) {
+                    r = w.emit(Op::Div, da, in.b);
+                }
+                break;
+            case Op::Recip:  // −(q·a′)/a with q = 1/a
+                if (da != kZero) {
+                    r = w.emit(Op::Neg, w.emit(Op::Div, w.emit(Op::Mul, in.out, da), in.a));
+                }
+                break;
+            case Op::Sqrt:  // (0.5/√a)·a′: unbounded where √a reaches 0
+                if (da != kZero) {
+                    r = w.emit(Op::Mul, w.emit(Op::Div, w.constant(0.5), in.out), da);
+                }
+                break;
+            case Op::Exp:  // eᵃ·a′
+                if (da != kZero) r = w.emit(Op::Mul, in.out, da);
+                break;
+            case Op::Log:  // a′/a
+                if (da != kZero) r = w.emit(Op::Div, da, in.a);
+                break;
+            case Op::Sin:  // cos a · a′
+                if (da != kZero) r = w.emit(Op::Mul, w.emit(Op::Cos, in.a), da);
+                break;
+            case Op::Cos:  // −sin a · a′
+                if (da != kZero) r = w.emit(Op::Neg, w.emit(Op::Mul, w.emit(Op::Sin, in.a), da));
+                break;
+            case Op::Pow:  // n·aⁿ⁻¹·a′ (a⁰ = 1 has derivative 0, a¹ = a)
+                if (da != kZero && in.b >= 1) {
+                    if (in.b == 1) {
+                        r = da;
+                    } else {
+                        const std::uint32_t p = w.emit(Op::Pow, in.a, in.b - 1);
+                        const std::uint32_t np =
+                            w.emit(Op::Mul, w.constant(static_cast<double>(in.b)), p);
+                        r = w.emit(Op::Mul, np, da);
+                    }
+                }
+                break;
+            default:  // kinks, jumps and the rest: no rule
+                return std::nullopt;
+        }
+        d[in.out] = r;
+    }
+    t.value = list.back().out;
+    t.derivative = d[t.value];
+    if (t.derivative == kZero) t.derivative = w.constant(0.0);  // f constant: derivative 0
+    t.list = std::move(w.out);
+    t.slots = w.slots();
+    return t;
+}
+
+}  // namespace certray::expr

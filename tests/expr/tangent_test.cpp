@@ -1,0 +1,195 @@
+// tests/expr/tangent_test.cpp — the tangent list (expr/tangent.h): derivatives along a direction
+// that calculus gives, enclosures of the MPFR derivative at random points of random boxes, the
+// same bits in the lanes as in the scalar walk, and no list for ops with kinks.
+#include "expr/tangent.h"
+
+#include <gtest/gtest.h>
+#include <rapidcheck.h>
+#include <rapidcheck/gtest.h>
+
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "expr/builder.h"
+#include "expr/eval.h"
+#include "expr/eval_interval_batch.h"
+#include "expr/tape.h"
+#include "interval/dual.h"
+#include "interval/interval.h"
+#include "interval/mpfr_interval.h"
+#include "tests/support/generators.h"
+#include "tests/support/mpfr_oracle.h"
+#include "tests/support/random_dag.h"
+
+namespace certray::expr {
+namespace {
+
+/// f and ∇f·u over the box, by the tangent list in the scalar walk.
+struct Slope {
+    UpInterval value, derivative;
+};
+Slope run_tangent(const TangentList& t, const std::array<UpInterval, 3>& box,
+                  const std::array<double, 3>& u) {
+    RoundingScope up;
+    std::vector<UpInterval> r(t.slots);
+    for (int c = 0; c < 3; ++c) r[t.seed[c]] = UpInterval(u[c]);
+    detail::run<UpInterval>(t.list, box, r.data());
+    return {r[t.value], r[t.derivative]};
+}
+
+/// The same bounds, bit for bit, and the same decoration.
+bool same_bits(const UpInterval& a, const UpInterval& b) {
+    return std::bit_cast<std::uint64_t>(a.lower()) == std::bit_cast<std::uint64_t>(b.lower()) &&
+           std::bit_cast<std::uint64_t>(a.upper()) == std::bit_cast<std::uint64_t>(b.upper()) &&
+           a.defined == b.defined;
+}
+
+Tape tape_of(const Expr& f) {
+    f.graph->set_output(f.id);
+    return Tape(*f.graph);
+}
+
+std::array<UpInterval, 3> point(double x, double y, double z) {
+    return {UpInterval(x), UpInterval(y), UpInterval(z)};
+}
+
+/// [lo, hi] holds v and is at most a few ulps of v wide.
+void expect_tight(const UpInterval& d, double v) {
+    EXPECT_LE(d.lower(), v);
+    EXPECT_GE(d.upper(), v);
+    EXPECT_LE(d.upper() - d.lower(), 1e-13 * std::max(1.0, std::fabs(v)));
+}
+
+TEST(Tangent, DerivativesAlongADirectionAreTheCalculusOnes) {
+    Graph g;
+    auto [x, y, z] = vars(g);
+    // f = x²·y − z/x + eˣ: ∂f/∂x = 2xy + z/x² + eˣ, ∂f/∂y = x², ∂f/∂z = −1/x.
+    const Tape t = tape_of(square(x) * y - z / x + exp(x));
+    const std::optional<TangentList> tl = tangent_list(t.ssa());
+    ASSERT_TRUE(tl.has_value());
+    // At (1, 2, 3) along (1, 0, 0): 4 + 3 + e; along (0, 1, 0): 1; along (0, 0, 1): −1; along
+    // (1, 1, 1): their sum.
+    const double e = std::exp(1.0);
+    expect_tight(run_tangent(*tl, point(1, 2, 3), {1, 0, 0}).derivative, 7 + e);
+    expect_tight(run_tangent(*tl, point(1, 2, 3), {0, 1, 0}).derivative, 1);
+    expect_tight(run_tangent(*tl, point(1, 2, 3), {0, 0, 1}).derivative, -1);
+    expect_tight(run_tangent(*tl, point(1, 2, 3), {1, 1, 1}).derivative, 7 + e);
+    // The value slot is f: 2 − 3 + e.
+    expect_tight(run_tangent(*tl, point(1, 2, 3), {1, 0, 0}).value, e - 1);
+
+    // √(x² + y²) at (3, 4) along (3, 4)/5 (the radial direction): 1; log(y)·sin(z) + cos(x)·x³
+    // at (0, 1, 0) along (0, 0, 1): log 1·cos 0 = 0; along (1, 0, 0): −sin 0·0 + cos 0·0 = 0.
+    const Tape r = tape_of(sqrt(square(x) + square(y)));
+    const std::optional<TangentList> tr = tangent_list(r.ssa());
+    ASSERT_TRUE(tr.has_value());
+    expect_tight(run_tangent(*tr, point(3, 4, 0), {0.6, 0.8, 0}).derivative, 1);
+    const Tape s = tape_of(log(y) * sin(z) + cos(x) * (x * x * x) + recip(y));
+    const std::optional<TangentList> ts = tangent_list(s.ssa());
+    ASSERT_TRUE(ts.has_value());
+    // Along (0, 1, 0) at (0, 1, 0): sin 0 / y − 1/y² = −1.
+    expect_tight(run_tangent(*ts, point(0, 1, 0), {0, 1, 0}).derivative, -1);
+    // Along (1, 0, 0) at (1, 1, 0): −sin 1 + 3 cos 1.
+    expect_tight(run_tangent(*ts, point(1, 1, 0), {1, 0, 0}).derivative,
+                 -std::sin(1.0) + 3 * std::cos(1.0));
+}
+
+TEST(Tangent, SquareRootAtZeroHasAnUnboundedDerivative) {
+    Graph g;
+    auto [x, y, z] = vars(g);
+    const Tape t = tape_of(sqrt(square(x) + square(y)) + z);
+    const std::optional<TangentList> tl = tangent_list(t.ssa());
+    ASSERT_TRUE(tl.has_value());
+    // Over a box through the axis x = y = 0 the slope of the cone is ±1 along x but √ cannot
+    // bound it there: the derivative enclosure must not be finite (the mean value form is then
+    // not taken).
+    const Slope s =
+        run_tangent(*tl, {UpInterval(-0.5, 0.5), UpInterval(-0.5, 0.5), UpInterval(0)}, {1, 0, 0});
+    EXPECT_FALSE(std::isfinite(s.derivative.lower()) && std::isfinite(s.derivative.upper()));
+}
+
+TEST(Tangent, OpsWithKinksHaveNoList) {
+    Graph g;
+    auto [x, y, z] = vars(g);
+    EXPECT_FALSE(tangent_list(tape_of(abs(x) + y).ssa()).has_value());
+    EXPECT_FALSE(tangent_list(tape_of(min(x, y) * z).ssa()).has_value());
+    EXPECT_FALSE(tangent_list(tape_of(max(x, y) - z).ssa()).has_value());
+    EXPECT_TRUE(tangent_list(tape_of(x * y - z).ssa()).has_value());
+    // A constant function: derivative 0.
+    const std::optional<TangentList> c = tangent_list(tape_of(constant(g, 2.5) * 2.0).ssa());
+    ASSERT_TRUE(c.has_value());
+    const Slope s = run_tangent(*c, point(1, 2, 3), {1, 1, 1});
+    EXPECT_EQ(s.derivative.lower(), 0.0);
+    EXPECT_EQ(s.derivative.upper(), 0.0);
+}
+
+RC_GTEST_PROP(TangentProperty, EnclosesTheMpfrDerivativeAtPointsOfTheBox, ()) {
+    const Tape t(*testing::gen_dag(24, /*smooth=*/true));
+    const std::optional<TangentList> tl = tangent_list(t.ssa());
+    RC_ASSERT(tl.has_value());
+    std::array<UpInterval, 3> box;
+    std::array<double, 3> p, u;
+    for (int c = 0; c < 3; ++c) {
+        const auto [lo, hi] = *testing::gen_bounds();
+        box[c] = UpInterval(lo, hi);
+        p[c] = *testing::gen_point_in(lo, hi);
+        u[c] = *testing::gen_finite_double();
+    }
+    const Slope s = run_tangent(*tl, box, u);
+    // The value slot is the plain walk's enclosure, bit for bit.
+    std::vector<UpInterval> plain(t.size());
+    {
+        RoundingScope up;
+        detail::run<UpInterval>(t.ssa(), box, plain.data());
+    }
+    RC_ASSERT(same_bits(plain[t.ssa().back().out], s.value));
+    // Where f is defined and continuous on the box, ∇f(p)·u lies in the derivative's enclosure
+    // (where it exists: a square root at 0 has none).
+    if (!s.value.defined) return;
+    using M = Dual<MpfrInterval, 1>;
+    const M exact = eval<M>(t, {M(MpfrInterval(p[0]), {MpfrInterval(u[0])}),
+                                M(MpfrInterval(p[1]), {MpfrInterval(u[1])}),
+                                M(MpfrInterval(p[2]), {MpfrInterval(u[2])})});
+    if (exact.a.is_empty() || exact.v[0].is_empty()) return;
+    if (!std::isfinite(exact.v[0].lower()) || !std::isfinite(exact.v[0].upper())) return;
+    RC_TAG(std::isfinite(s.derivative.lower()) && std::isfinite(s.derivative.upper())
+               ? "finite derivative"
+               : "unbounded");
+    RC_ASSERT(testing::encloses(s.derivative.lower(), s.derivative.upper(), exact.v[0]));
+}
+
+RC_GTEST_PROP(TangentProperty, LanesGiveTheScalarWalksBits, ()) {
+    const Tape t(*testing::gen_dag(16, /*smooth=*/true));
+    const std::optional<TangentList> tl = tangent_list(t.ssa());
+    RC_ASSERT(tl.has_value());
+    const int n = *rc::gen::inRange(1, kIntervalLanes + 1);
+    std::vector<std::array<UpInterval, 3>> boxes(n);
+    std::vector<std::array<double, 3>> dirs(n);
+    std::array<IntervalLanes, 3> in{};
+    std::vector<IntervalLanes> regs(tl->slots);
+    for (int k = 0; k < n; ++k) {
+        for (int c = 0; c < 3; ++c) {
+            const auto [lo, hi] = *testing::gen_bounds();
+            boxes[k][c] = UpInterval(lo, hi);
+            dirs[k][c] = *testing::gen_finite_double();
+            set_lane(in[c], k, boxes[k][c]);
+            set_lane(regs[tl->seed[c]], k, UpInterval(dirs[k][c]));
+        }
+    }
+    {
+        RoundingScope up;
+        run_interval_batch(tl->list.data(), tl->list.data() + tl->list.size(), in.data(),
+                           regs.data(), n);
+    }
+    for (int k = 0; k < n; ++k) {
+        const Slope s = run_tangent(*tl, boxes[k], dirs[k]);
+        RC_ASSERT(same_bits(lane(regs[tl->value], k), s.value));
+        RC_ASSERT(same_bits(lane(regs[tl->derivative], k), s.derivative));
+    }
+}
+
+}  // namespace
+}  // namespace certray::expr
