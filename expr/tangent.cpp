@@ -27,10 +27,40 @@ class Writer {
     std::uint32_t next_;
 };
 
+/// Whether tangent_list has a rule for op.
+bool has_rule(Op op) {
+    switch (op) {
+        case Op::Const:
+        case Op::VarX:
+        case Op::VarY:
+        case Op::VarZ:
+        case Op::Neg:
+        case Op::Add:
+        case Op::Sub:
+        case Op::Mul:
+        case Op::Square:
+        case Op::Div:
+        case Op::Recip:
+        case Op::Sqrt:
+        case Op::Exp:
+        case Op::Log:
+        case Op::Sin:
+        case Op::Cos:
+        case Op::Pow:
+            return true;
+        default:
+            return false;
+    }
+}
+
 }  // namespace
 
 std::optional<TangentList> tangent_list(const std::vector<Instr>& list) {
-    if (list.empty()) return std::nullopt;
+    // Most lists without a tangent list hold a min or max: found before anything is built.
+    if (list.empty() ||
+        !std::all_of(list.begin(), list.end(), [](const Instr& in) { return has_rule(in.op); })) {
+        return std::nullopt;
+    }
     std::uint32_t end = 0;
     for (const Instr& in : list) end = std::max(end, in.out + 1);
     TangentList t;
@@ -129,7 +159,7 @@ std::optional<TangentList> tangent_list(const std::vector<Instr>& list) {
                     }
                 }
                 break;
-            default:  // kinks, jumps and the rest: no rule
+            default:  // kinks, jumps and the rest: no rule (has_rule)
                 return std::nullopt;
         }
         d[in.out] = r;

@@ -197,8 +197,8 @@ class Walker {
     /// Enclosures of `list` over the boxes boxes[0, n) into lane_values_[0, n).
     void eval_lanes(const Ssa& list, const std::array<UpInterval, 3>* boxes, std::size_t n);
     /// The tangent list of `list` (expr/tangent.h), or null when it has none; kept with the
-    /// level whose list it is.
-    const expr::TangentList* tangent(const Ssa& list);
+    /// level whose list it is (`depth` or above).
+    const expr::TangentList* tangent(const Ssa& list, unsigned depth);
     /// Enclosures of f and of its derivative along each lane's direction dirs_[k] over the boxes
     /// boxes[0, n), by the tangent list `tl`, into lane_values_[0, n) and lane_slopes_[0, n).
     void eval_tangent_lanes(const expr::TangentList& tl, const std::array<UpInterval, 3>* boxes,
@@ -586,7 +586,11 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
         ++stats.prunes;
     }
 
-    if (count <= options_.together_rays && scan_together(r, a, b, *sub, sub_tape, level, depth)) {
+    // Lists with a tangent list get their scans' forms in lanes: wider scans pay there.
+    const bool together = count <= options_.together_rays ||
+                          (count <= options_.smooth_together_rays && options_.lane_mean_value &&
+                           tangent(*sub, depth) != nullptr);
+    if (together && scan_together(r, a, b, *sub, sub_tape, level, depth)) {
         return;
     }
     if (count > 1 && depth + 1 < kMaxDepth) {
@@ -708,15 +712,15 @@ void Walker::eval_lanes(const Ssa& list, const std::array<UpInterval, 3>* boxes,
     }
 }
 
-const expr::TangentList* Walker::tangent(const Ssa& list) {
+const expr::TangentList* Walker::tangent(const Ssa& list, unsigned depth) {
     // The tape's own list, or a level's pruned list (rewritten only where that level prunes,
     // which marks its tangent list unknown); any other list gets none.
     Level* owner = nullptr;
     if (&list == &tape_.ssa()) {
         owner = &tape_level_;
     } else {
-        for (Level& lv : levels_) {
-            if (&lv.list == &list) owner = &lv;
+        for (unsigned k = std::min<unsigned>(depth + 1, kMaxDepth); k-- > 0 && owner == nullptr;) {
+            if (&levels_[k].list == &list) owner = &levels_[k];
         }
     }
     if (owner == nullptr) return nullptr;
@@ -863,7 +867,8 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
     // free is passed, the next one decided by its points or its form. It is what decides a
     // polynomial's pieces near its surface; without it, after_points() tries the form one ray and
     // one piece at a time.
-    const expr::TangentList* tl = open > 0 && options_.lane_mean_value ? tangent(list) : nullptr;
+    const expr::TangentList* tl =
+        open > 0 && options_.lane_mean_value ? tangent(list, depth) : nullptr;
     if (tl != nullptr) {
         form_boxes_.clear();
         dirs_.clear();

@@ -105,6 +105,11 @@ struct CoherentOptions {
     /// tested against). 8 measured best of 4–64 on Barth's sextic, the tanglecube, Chmutov's
     /// sextic and Fidget's bear and colonnade (docs/benchmarks.md).
     unsigned together_rays = 8;
+    /// together_rays where the node's list has a tangent list (expr/tangent.h) and
+    /// lane_mean_value is on: the pieces' mean value forms in lanes make wider scans pay. 16
+    /// measured best of 4–32 on Barth's sextic, the tanglecube and Chmutov's sextic (–10 to
+    /// –21% against 8; docs/benchmarks.md, session 10).
+    unsigned smooth_together_rays = 16;
     /// In those lanes, pieces that their enclosure leaves undecided get the mean value form in t
     /// at once, from a derivative computed in the same batched walk (expr/tangent.h), where the
     /// list has only ops with such a rule (no abs, min, max, …). Off: the form is tried on one

@@ -523,6 +523,7 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     o.render.threads = 1;
     o.depth_pixels = *rc::gen::element(0.5, 2.0, 8.0);
     o.together_rays = *rc::gen::element(1u, 8u);
+    o.smooth_together_rays = *rc::gen::element(1u, 16u, 64u);
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
     o.certified = image_solver_options();
     o.certified.budget = 2000;
@@ -554,6 +555,7 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     o.render.threads = *rc::gen::element(1u, 2u);
     o.depth_pixels = *rc::gen::element(0.0, 0.5, 2.0);          // leaf segments scanned in pieces
     o.together_rays = *rc::gen::element(0u, 1u, 4u, 16u, 64u);  // several rays' pieces at once
+    o.smooth_together_rays = *rc::gen::element(0u, 16u, 64u);
     o.lane_mean_value = *rc::gen::arbitrary<bool>();
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
     o.certified.budget = 2000;  // the image options otherwise
