@@ -70,6 +70,32 @@ RC_GTEST_PROP(IntervalSteps, NextUpIsNextafterEverywhere, ()) {
               std::bit_cast<std::uint64_t>(std::nextafter(v, -L::infinity())));
 }
 
+RC_GTEST_PROP(IntervalSteps, StepsAreRepeatedNextafter, ()) {
+    // step_up/step_down take a shortcut away from 0 and ±inf: n steps of nextafter everywhere,
+    // across binades, near the shortcut's edges, the subnormals, 0 and the largest doubles.
+    using L = std::numeric_limits<double>;
+    const double v = *rc::gen::oneOf(
+        rc::gen::map(rc::gen::arbitrary<std::uint64_t>(),
+                     [](std::uint64_t b) { return std::bit_cast<double>(b); }),
+        rc::gen::map(rc::gen::inRange(-8, 9),
+                     [](int k) { return std::ldexp(1.0, 1000) + k * std::ldexp(1.0, 948); }),
+        rc::gen::map(rc::gen::inRange(-8, 9),
+                     [](int k) { return std::ldexp(1.0, -1000) + k * std::ldexp(1.0, -1052); }),
+        rc::gen::element(0.0, -0.0, L::denorm_min(), -L::denorm_min(), L::max(), -L::max(),
+                         L::infinity(), -L::infinity(), 1.0, -1.0, 2.0, 0.5));
+    if (std::isnan(v)) return;
+    const int n = *rc::gen::inRange(0, 9);
+    double up = v, down = v;
+    for (int i = 0; i < n; ++i) {
+        up = std::nextafter(up, L::infinity());
+        down = std::nextafter(down, -L::infinity());
+    }
+    RC_ASSERT(std::bit_cast<std::uint64_t>(detail::step_up(v, n)) ==
+              std::bit_cast<std::uint64_t>(up));
+    RC_ASSERT(std::bit_cast<std::uint64_t>(detail::step_down(v, n)) ==
+              std::bit_cast<std::uint64_t>(down));
+}
+
 TEST(IntervalCanary, OneThirdHasPositiveWidth) {
     volatile double one = 1.0, three = 3.0;
     Interval r = Interval(1.0) / Interval(3.0);
