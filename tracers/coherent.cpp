@@ -1158,7 +1158,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         st.max_pixel_evals = std::max(st.max_pixel_evals, ans.evals[k]);
     }
     if (stats != nullptr) *stats = total;
-    result.image = colorize(ans, options.render.aov, options.render.light);
+    result.image = colorize(ans, options.render.aov, options.render.light, options.render.threads);
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }

@@ -92,7 +92,7 @@ AovRange aov_range(const PixelAnswers& answers, Aov aov);
 
 /// Colours answers as `aov` (used by render_3d; exposed to recolour without re-tracing). Depth and
 /// steps images carry a colour bar at the bottom right (least value left, greatest right; the
-/// values: aov_range).
-RgbImage colorize(const PixelAnswers& answers, Aov aov, const Vec3& light);
+/// values: aov_range). Rows are shared out to `threads` workers (0: one per hardware thread).
+RgbImage colorize(const PixelAnswers& answers, Aov aov, const Vec3& light, unsigned threads = 1);
 
 }  // namespace certray::tracers
