@@ -187,11 +187,14 @@ class Walker {
     /// pixel's answer.
     void settle(unsigned i, unsigned j, const Ray& s, RayResult res, bool scanned, const Ssa& list,
                 const expr::Tape*& tape, Level& level, unsigned depth);
-    /// scan() for the open rays of r that meet [a, b] (at most CoherentOptions::together_rays, each
-    /// segment at most kMaxPieces pieces long) all at once: every piece of every ray is one lane of
-    /// one batched evaluation, then the points that the pieces' decisions need are a second one.
-    /// Each ray's answer is the one scan() gives it (the same enclosures, bit for bit), settled
-    /// as leaf() settles it. False, with nothing evaluated, when a ray's segment is too long.
+    /// scan() for the open rays of r that meet [a, b] (at most CoherentOptions::together_rays, or
+    /// smooth_together_rays where the list has a tangent list; each segment at most kMaxPieces
+    /// pieces long) all at once: every piece of every ray is one lane of one batched evaluation,
+    /// then the points that the pieces' decisions need are a second one.
+    /// Each ray is decided as scan() decides it (the same enclosures, bit for bit; with the
+    /// list's tangent list, the mean value forms from lanes too, on every later undecided piece),
+    /// settled as leaf() settles it. False, with nothing evaluated, when a ray's segment is too
+    /// long.
     bool scan_together(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
                        Level& level, unsigned depth);
     /// Enclosures of `list` over the boxes boxes[0, n) into lane_values_[0, n).
