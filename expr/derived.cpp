@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -173,14 +174,21 @@ double lipschitz_bound(const Tape& tape, const std::array<Interval, 3>& box) {
     thread_local std::vector<GradBound> regs;
     std::array<Interval, 3> parts;
     double lip = 0;
+    // The blends and whether there is a square root, found once per tape (a tracer asks for
+    // bounds on one tape many times in a row; Tape::serial names its instructions).
     thread_local std::vector<SmoothBlend> blends;
-    smooth_blends(tape.ssa(), blends);
+    thread_local std::uint64_t scanned = 0;
+    thread_local bool roots = false;
+    if (tape.serial() == 0 || tape.serial() != scanned) {
+        smooth_blends(tape.ssa(), blends);
+        roots = std::any_of(tape.instrs().begin(), tape.instrs().end(),
+                            [](const Instr& in) { return in.op == Op::Sqrt; });
+        scanned = tape.serial();
+    }
     // Without a square root there is no root form to find (interval/grad_bound.h), and without a
     // blend no rule to apply: the norm of the interval gradient is the bound, at half the cost of
     // GradBound's per-operation bookkeeping (the same steps on the particles, the Barth sextic
     // and the tanglecube, 1.6× faster sphere tracing).
-    bool roots = false;
-    for (const Instr& in : tape.instrs()) roots = roots || in.op == Op::Sqrt;
     if (!roots && blends.empty()) {
         using D = Dual<UpInterval, 3>;
         thread_local std::vector<D> dregs;

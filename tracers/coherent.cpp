@@ -133,7 +133,8 @@ class Walker {
           certified_(options.certified),
           choices_(has_choices(tape.ssa())),
           t_splits_(rays.projection() != Projection::Ortho || tape.uses_var(2)),
-          levels_(kMaxDepth) {
+          levels_(kMaxDepth),
+          tape_tangent_(expr::tangent_list(tape.ssa())) {
         if (rays.projection() != Projection::List && options.render.aov != Aov::Depth &&
             options.depth_pixels > 0) {
             // A pixel's footprint: its angle times t (pinhole), or its side (ortho).
@@ -197,8 +198,9 @@ class Walker {
     /// long.
     bool scan_together(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
                        Level& level, unsigned depth);
-    /// Enclosures of `list` over the boxes boxes[0, n) into lane_values_[0, n).
-    void eval_lanes(const Ssa& list, const std::array<UpInterval, 3>* boxes, std::size_t n);
+    /// Enclosures of `list` over the boxes boxes[0, n) into out[0, n).
+    void eval_lanes(const Ssa& list, const std::array<UpInterval, 3>* boxes, std::size_t n,
+                    std::vector<UpInterval>& out);
     /// The tangent list of `list` (expr/tangent.h), or null when it has none; kept with the
     /// level whose list it is (`depth` or above).
     const expr::TangentList* tangent(const Ssa& list, unsigned depth);
@@ -307,7 +309,8 @@ class Walker {
     std::vector<std::array<UpInterval, 3>> form_boxes_;
     std::vector<std::array<double, 3>> dirs_;
     std::vector<std::size_t> form_of_;
-    Level tape_level_;  ///< the tangent list of the tape's own list
+    /// The tangent list of the tape's own list (expr/tangent.h), or none.
+    const std::optional<expr::TangentList> tape_tangent_;
     struct Piece {
         unsigned i, j;
         double p, q;
@@ -700,10 +703,11 @@ void Walker::settle(unsigned i, unsigned j, const Ray& s, RayResult res, bool sc
     answer(i, j, p, res, list, s.tmin, s.tmax);
 }
 
-void Walker::eval_lanes(const Ssa& list, const std::array<UpInterval, 3>* boxes, std::size_t n) {
+void Walker::eval_lanes(const Ssa& list, const std::array<UpInterval, 3>* boxes, std::size_t n,
+                        std::vector<UpInterval>& out) {
     if (lane_regs_.size() < list.size()) lane_regs_.resize(list.size());
-    if (lane_values_.size() < n) lane_values_.resize(n);
-    const std::uint32_t out = list.back().out;
+    if (out.size() < n) out.resize(n);
+    const std::uint32_t f = list.back().out;
     for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
         const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
         for (int k = 0; k < m; ++k) {
@@ -711,20 +715,17 @@ void Walker::eval_lanes(const Ssa& list, const std::array<UpInterval, 3>* boxes,
         }
         expr::run_interval_batch(list.data(), list.data() + list.size(), lane_in_.data(),
                                  lane_regs_.data(), m);
-        for (int k = 0; k < m; ++k) lane_values_[k0 + k] = expr::lane(lane_regs_[out], k);
+        for (int k = 0; k < m; ++k) out[k0 + k] = expr::lane(lane_regs_[f], k);
     }
 }
 
 const expr::TangentList* Walker::tangent(const Ssa& list, unsigned depth) {
     // The tape's own list, or a level's pruned list (rewritten only where that level prunes,
     // which marks its tangent list unknown); any other list gets none.
+    if (&list == &tape_.ssa()) return tape_tangent_ ? &*tape_tangent_ : nullptr;
     Level* owner = nullptr;
-    if (&list == &tape_.ssa()) {
-        owner = &tape_level_;
-    } else {
-        for (unsigned k = std::min<unsigned>(depth + 1, kMaxDepth); k-- > 0 && owner == nullptr;) {
-            if (&levels_[k].list == &list) owner = &levels_[k];
-        }
+    for (unsigned k = std::min<unsigned>(depth + 1, kMaxDepth); k-- > 0 && owner == nullptr;) {
+        if (&levels_[k].list == &list) owner = &levels_[k];
     }
     if (owner == nullptr) return nullptr;
     if (!owner->tangent_known) {
@@ -788,8 +789,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         const Piece& c = pieces_[k];
         lanes_[k] = ray_box(px(c.i, c.j).ray, c.p, c.q);
     }
-    eval_lanes(list, lanes_.data(), n);
-    piece_values_.assign(lane_values_.begin(), lane_values_.begin() + static_cast<long>(n));
+    eval_lanes(list, lanes_.data(), n, piece_values_);
     piece_proof_.resize(n);
     for (std::size_t k = 0; k < n; ++k) piece_proof_[k] = proof(piece_values_[k]);
 
@@ -854,7 +854,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         at[ray] = points_.size();
         add_points(points_, first[ray]);
     }
-    if (!points_.empty()) eval_lanes(list, points_.data(), points_.size());
+    if (!points_.empty()) eval_lanes(list, points_.data(), points_.size(), lane_values_);
     std::size_t open = 0;  // rays still undecided
     for (std::size_t ray = 0; ray < rays; ++ray) {
         if (first[ray] == n) continue;
@@ -886,10 +886,8 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
                 const Piece& c = pieces_[k];
                 form_of_[k] = form_boxes_.size();
                 form_boxes_.push_back(lanes_[k]);
-                const UpInterval tc(midpoint(UpInterval(c.p, c.q)));
-                form_boxes_.push_back({UpInterval(full.o[0]) + tc * UpInterval(full.d[0]),
-                                       UpInterval(full.o[1]) + tc * UpInterval(full.d[1]),
-                                       UpInterval(full.o[2]) + tc * UpInterval(full.d[2])});
+                const double tc = midpoint(UpInterval(c.p, c.q));
+                form_boxes_.push_back(ray_box(full, tc, tc));  // holds the point o + tc·d
                 if (k != first[ray]) add_points(form_boxes_, k);
             }
             dirs_.resize(form_boxes_.size(), full.d);
