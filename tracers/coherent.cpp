@@ -42,6 +42,18 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Deepest node: past it a node is a leaf whatever its size (the solver bisects further).
 constexpr unsigned kMaxDepth = 80;
 
+/// A box of a batched evaluation (Walker::eval_lanes): [lo[c], hi[c]] per axis, from ray_bounds.
+struct LaneBox {
+    double lo[3], hi[3];
+};
+
+/// The box of ray_box(ray, p, q), as a LaneBox.
+LaneBox lane_box(const Ray& ray, double p, double q) {
+    LaneBox b;
+    ray_bounds(ray, p, q, b.lo, b.hi);
+    return b;
+}
+
 /// The pixels [i0, i0 + w) × [j0, j0 + h) of the image.
 struct Rect {
     unsigned i0, j0, w, h;
@@ -199,15 +211,17 @@ class Walker {
     bool scan_together(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
                        Level& level, unsigned depth);
     /// Enclosures of `list` over the boxes boxes[0, n) into out[0, n).
-    void eval_lanes(const Ssa& list, const std::array<UpInterval, 3>* boxes, std::size_t n,
+    void eval_lanes(const Ssa& list, const LaneBox* boxes, std::size_t n,
                     std::vector<UpInterval>& out);
+    /// Loads boxes[0, m) into lanes 0 … m − 1 of lane_in_ (m ≤ kIntervalLanes): each axis the
+    /// interval ray_box gives (empty where a bound is NaN or lo > hi).
+    void load_lanes(const LaneBox* boxes, int m);
     /// The tangent list of `list` (expr/tangent.h), or null when it has none; kept with the
     /// level whose list it is (`depth` or above).
     const expr::TangentList* tangent(const Ssa& list, unsigned depth);
     /// Enclosures of f and of its derivative along each lane's direction dirs_[k] over the boxes
     /// boxes[0, n), by the tangent list `tl`, into lane_values_[0, n) and lane_slopes_[0, n).
-    void eval_tangent_lanes(const expr::TangentList& tl, const std::array<UpInterval, 3>* boxes,
-                            std::size_t n);
+    void eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxes, std::size_t n);
     /// Solid: every open ray of r that meets [a, b] enters {f < 0} at its first parameter in
     /// [a, b] (the box there is proven inside, and g ≥ 0 is proven before): a Hit [t, t].
     void inside(const Rect& r, double a, double b, const Ssa& list);
@@ -298,15 +312,15 @@ class Walker {
     static constexpr int kMaxPieces = 8;
     /// scan_together()'s lanes: the boxes, their enclosures, and per lane the ray's pixel and
     /// the piece [p, q].
-    std::vector<std::array<UpInterval, 3>> lanes_;
-    std::vector<std::array<UpInterval, 3>> points_;  ///< the second and third batches' boxes
+    std::vector<LaneBox> lanes_;
+    std::vector<LaneBox> points_;  ///< the second and third batches' boxes
     std::vector<UpInterval> lane_values_;
     std::vector<UpInterval> lane_slopes_;   ///< eval_tangent_lanes()'s derivatives
     std::vector<UpInterval> piece_values_;  ///< per piece: the enclosure of f over it
     std::vector<Proof> piece_proof_;        ///< per piece: what its enclosures prove
     /// The lanes of the mean value forms: undecided pieces, then their centres, and their rays'
     /// directions; per piece its lane there, or none.
-    std::vector<std::array<UpInterval, 3>> form_boxes_;
+    std::vector<LaneBox> form_boxes_;
     std::vector<std::array<double, 3>> dirs_;
     std::vector<std::size_t> form_of_;
     /// The tangent list of the tape's own list (expr/tangent.h), or none.
@@ -500,13 +514,17 @@ void Walker::tile(const Rect& r) {
     mv_tries_ = mv_proofs_ = mv_passed_ = 0;  // each tile decides afresh (the same in any thread)
     px_.assign(std::size_t{r.w} * r.h, Px{});
     double a = kInf, b = -kInf;
-    for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
-        for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
-            Px& p = px(i, j);
-            p.open = rays_.ray(i, j, p.ray);  // a ray that misses the bounds: Miss, no evaluation
-            if (!p.open) continue;
-            a = std::min(a, p.ray.tmin);
-            b = std::max(b, p.ray.tmax);
+    {
+        NearestScope env;  // one switch for the tile's rays
+        for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
+            for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
+                Px& p = px(i, j);
+                // A ray that misses the bounds: Miss, no evaluation.
+                p.open = rays_.ray_in_scope(i, j, p.ray);
+                if (!p.open) continue;
+                a = std::min(a, p.ray.tmin);
+                b = std::max(b, p.ray.tmax);
+            }
         }
     }
     if (a <= b) {
@@ -530,20 +548,46 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
         hull = *given;
     } else {
         hull.answered = answered_;
-        for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
-            for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
-                const Px& p = px(i, j);
-                if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
-                ++hull.count;
-                hull.tlo = std::min(hull.tlo, p.ray.tmin);
-                hull.thi = std::max(hull.thi, p.ray.tmax);
-                for (int c = 0; c < 3; ++c) {
-                    hull.olo[c] = std::min(hull.olo[c], p.ray.o[c]);
-                    hull.ohi[c] = std::max(hull.ohi[c], p.ray.o[c]);
-                    hull.dlo[c] = std::min(hull.dlo[c], p.ray.d[c]);
-                    hull.dhi[c] = std::max(hull.dhi[c], p.ray.d[c]);
+        // A pinhole's rays share their origin, a heightmap's their direction: that hull is the
+        // first open ray's, and the loop takes the other one only.
+        const auto take = [&](auto vary_o, auto vary_d) {
+            const Px* first = nullptr;
+            for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
+                for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
+                    const Px& p = px(i, j);
+                    if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
+                    if (first == nullptr) first = &p;
+                    ++hull.count;
+                    hull.tlo = std::min(hull.tlo, p.ray.tmin);
+                    hull.thi = std::max(hull.thi, p.ray.tmax);
+                    for (int c = 0; c < 3; ++c) {
+                        if constexpr (vary_o) {
+                            hull.olo[c] = std::min(hull.olo[c], p.ray.o[c]);
+                            hull.ohi[c] = std::max(hull.ohi[c], p.ray.o[c]);
+                        }
+                        if constexpr (vary_d) {
+                            hull.dlo[c] = std::min(hull.dlo[c], p.ray.d[c]);
+                            hull.dhi[c] = std::max(hull.dhi[c], p.ray.d[c]);
+                        }
+                    }
                 }
             }
+            if (first == nullptr) return;
+            for (int c = 0; c < 3; ++c) {
+                if constexpr (!vary_o) hull.olo[c] = hull.ohi[c] = first->ray.o[c];
+                if constexpr (!vary_d) hull.dlo[c] = hull.dhi[c] = first->ray.d[c];
+            }
+        };
+        switch (rays_.projection()) {
+            case Projection::Pinhole:
+                take(std::false_type{}, std::true_type{});
+                break;
+            case Projection::Ortho:
+                take(std::true_type{}, std::false_type{});
+                break;
+            case Projection::List:
+                take(std::true_type{}, std::true_type{});
+                break;
         }
     }
     const unsigned count = hull.count;
@@ -703,16 +747,33 @@ void Walker::settle(unsigned i, unsigned j, const Ray& s, RayResult res, bool sc
     answer(i, j, p, res, list, s.tmin, s.tmax);
 }
 
-void Walker::eval_lanes(const Ssa& list, const std::array<UpInterval, 3>* boxes, std::size_t n,
+void Walker::load_lanes(const LaneBox* boxes, int m) {
+    static_assert(expr::kIntervalLanes <= 64, "one word of decorations per register");
+    for (int c = 0; c < 3; ++c) {
+        expr::IntervalLanes& x = lane_in_[c];
+        std::uint64_t def = 0;
+        for (int k = 0; k < m; ++k) {
+            const double lo = boxes[k].lo[c], hi = boxes[k].hi[c];
+            if (lo <= hi) {
+                x.lo[k] = lo;
+                x.hi[k] = hi;
+                def |= std::uint64_t{1} << k;
+            } else {
+                expr::set_lane(x, k, UpInterval::empty());
+            }
+        }
+        x.defined[0] = def;
+    }
+}
+
+void Walker::eval_lanes(const Ssa& list, const LaneBox* boxes, std::size_t n,
                         std::vector<UpInterval>& out) {
     if (lane_regs_.size() < list.size()) lane_regs_.resize(list.size());
     if (out.size() < n) out.resize(n);
     const std::uint32_t f = list.back().out;
     for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
         const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
-        for (int k = 0; k < m; ++k) {
-            for (int c = 0; c < 3; ++c) expr::set_lane(lane_in_[c], k, boxes[k0 + k][c]);
-        }
+        load_lanes(boxes + k0, m);
         expr::run_interval_batch(list.data(), list.data() + list.size(), lane_in_.data(),
                                  lane_regs_.data(), m);
         for (int k = 0; k < m; ++k) out[k0 + k] = expr::lane(lane_regs_[f], k);
@@ -735,16 +796,15 @@ const expr::TangentList* Walker::tangent(const Ssa& list, unsigned depth) {
     return owner->tangent ? &*owner->tangent : nullptr;
 }
 
-void Walker::eval_tangent_lanes(const expr::TangentList& tl, const std::array<UpInterval, 3>* boxes,
-                                std::size_t n) {
+void Walker::eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxes, std::size_t n) {
     if (lane_regs_.size() < tl.slots) lane_regs_.resize(tl.slots);
     if (lane_values_.size() < n) lane_values_.resize(n);
     if (lane_slopes_.size() < n) lane_slopes_.resize(n);
     for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
         const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
+        load_lanes(boxes + k0, m);
         for (int k = 0; k < m; ++k) {
             for (int c = 0; c < 3; ++c) {
-                expr::set_lane(lane_in_[c], k, boxes[k0 + k][c]);
                 expr::set_lane(lane_regs_[tl.seed[c]], k, UpInterval(dirs_[k0 + k][c]));
             }
         }
@@ -787,7 +847,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
     if (lanes_.size() < n) lanes_.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
         const Piece& c = pieces_[k];
-        lanes_[k] = ray_box(px(c.i, c.j).ray, c.p, c.q);
+        lanes_[k] = lane_box(px(c.i, c.j).ray, c.p, c.q);
     }
     eval_lanes(list, lanes_.data(), n, piece_values_);
     piece_proof_.resize(n);
@@ -825,12 +885,12 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
             return hit(res, c.p, c.q);
         }
     };
-    const auto add_points = [&](std::vector<std::array<UpInterval, 3>>& boxes, std::size_t k) {
+    const auto add_points = [&](std::vector<LaneBox>& boxes, std::size_t k) {
         const Piece& c = pieces_[k];
         const Ray& full = px(c.i, c.j).ray;
         const int m = points_of(k);
-        if (m == 2) boxes.push_back(ray_box(full, c.p, c.p));
-        if (m >= 1) boxes.push_back(ray_box(full, c.q, c.q));
+        if (m == 2) boxes.push_back(lane_box(full, c.p, c.p));
+        if (m >= 1) boxes.push_back(lane_box(full, c.q, c.q));
     };
 
     // Each ray's first piece not proven free by its enclosure, decided by its points (a second
@@ -887,7 +947,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
                 form_of_[k] = form_boxes_.size();
                 form_boxes_.push_back(lanes_[k]);
                 const double tc = midpoint(UpInterval(c.p, c.q));
-                form_boxes_.push_back(ray_box(full, tc, tc));  // holds the point o + tc·d
+                form_boxes_.push_back(lane_box(full, tc, tc));  // holds the point o + tc·d
                 if (k != first[ray]) add_points(form_boxes_, k);
             }
             dirs_.resize(form_boxes_.size(), full.d);
@@ -944,7 +1004,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
     }
     // Settled in pixel order; a split recurses into deeper levels, which do not touch this one.
     for (std::size_t ray = 0; ray < level.scanned.size(); ++ray) {
-        const Level::Scanned z = level.scanned[ray];
+        const Level::Scanned& z = level.scanned[ray];  // settle() recurses into deeper levels only
         stats.together += z.res.status != Status::Unknown;
         settle(z.i, z.j, z.s, z.res, true, list, tape, level, depth);
     }
@@ -1053,13 +1113,18 @@ PixelRays::PixelRays(std::span<const Ray> rays, unsigned width, unsigned height,
 }
 
 bool PixelRays::ray(unsigned i, unsigned j, Ray& ray) const {
+    if (projection_ == Projection::List) return ray_in_scope(i, j, ray);
+    NearestScope env;
+    return ray_in_scope(i, j, ray);
+}
+
+bool PixelRays::ray_in_scope(unsigned i, unsigned j, Ray& ray) const {
     if (projection_ == Projection::List) {
         const std::uint32_t k = cells_[std::size_t{j} * width_ + i];
         if (k == kNoRay) return false;
         ray = list_[k];
         return true;
     }
-    NearestScope env;
     if (projection_ == Projection::Pinhole) {
         ray = frame_->ray(i + 0.5, j + 0.5);
         return clip_ray(ray, bounds_);

@@ -151,6 +151,8 @@ class PixelRays {
     /// The ray of pixel (i, j) (j = 0 the top row), clipped to the bounds; false when it misses
     /// them (the pixel is then a Miss with no evaluation). Runs in a NearestScope.
     bool ray(unsigned i, unsigned j, Ray& ray) const;
+    /// ray() for a caller that holds a NearestScope (one for a whole tile of pixels).
+    bool ray_in_scope(unsigned i, unsigned j, Ray& ray) const;
     /// The widest angle (pinhole) or distance (ortho) between neighbouring pixel rays.
     double pixel_pitch() const { return pitch_; }
     Projection projection() const { return projection_; }

@@ -25,19 +25,26 @@ inline std::array<UpInterval, 3> segment_box(const double* olo, const double* oh
     return box;
 }
 
-/// The box o + [p, q]·d of one ray (p ≤ q), rounded outward in the walk's upward mode: per axis
-/// [o + (d ≥ 0 ? p : q)·d rounded down, o + (d ≥ 0 ? q : p)·d rounded up], the bounds segment_box
-/// gives for a point origin and direction, with two products and two sums instead of an interval
-/// product (a rounding down is the negation of a rounding up of the negated operands).
-inline std::array<UpInterval, 3> ray_box(const Ray& ray, double p, double q) {
-    std::array<UpInterval, 3> box;
+/// The bounds of the box o + [p, q]·d of one ray (p ≤ q), rounded outward in the walk's upward
+/// mode: per axis [o + (d ≥ 0 ? p : q)·d rounded down, o + (d ≥ 0 ? q : p)·d rounded up], the
+/// bounds segment_box gives for a point origin and direction, with two products and two sums
+/// instead of an interval product (a rounding down is the negation of a rounding up of the
+/// negated operands).
+inline void ray_bounds(const Ray& ray, double p, double q, double* lo, double* hi) {
     for (int c = 0; c < 3; ++c) {
         const double o = ray.o[c], d = ray.d[c];
         const double tl = d >= 0 ? p : q, th = d >= 0 ? q : p;
-        const double lo = -(detail::opaque(-o) + detail::opaque(-tl * d));  // ↓(o + ↓(tl·d))
-        const double hi = detail::opaque(o + detail::opaque(th * d));       // ↑(o + ↑(th·d))
-        box[c] = UpInterval(lo, hi);
+        lo[c] = -(detail::opaque(-o) + detail::opaque(-tl * d));  // ↓(o + ↓(tl·d))
+        hi[c] = detail::opaque(o + detail::opaque(th * d));       // ↑(o + ↑(th·d))
     }
+}
+
+/// ray_bounds as intervals.
+inline std::array<UpInterval, 3> ray_box(const Ray& ray, double p, double q) {
+    double lo[3], hi[3];
+    ray_bounds(ray, p, q, lo, hi);
+    std::array<UpInterval, 3> box;
+    for (int c = 0; c < 3; ++c) box[c] = UpInterval(lo[c], hi[c]);
     return box;
 }
 
