@@ -13,9 +13,11 @@
 //   and no decoration; where it calls Boost's case table (+ − × at infinite bounds or on empty
 //   operands), the lane calls the scalar operation itself, on the operands as they were before the
 //   instruction wrote its register.
-// - Exp, Log: the scalar exp() and log() with their nearest2 batched: one write of MXCSR to
-//   round-to-nearest for all lanes of the instruction, libm lane by lane, one write back to
-//   upward, then the same widening (exp_below/exp_above, log_below/log_above); the lanes log
+// - Exp (x86): interval/exp_kernel.h's bounds on kWidth lanes at once, as the scalar exp() takes
+//   them; lanes with a bound where the kernel does not apply call the scalar exp().
+// - Log (and Exp elsewhere): the scalar log() and exp() with their nearest2 batched: one write of
+//   MXCSR to round-to-nearest for all lanes of the instruction, libm lane by lane, one write back
+//   to upward, then the same widening (exp_below/exp_above, log_below/log_above); the lanes log
 //   sends to Boost (a bound ≤ 0, empty) call the scalar log.
 // - Every other op: the scalar UpInterval operation lane by lane (the calls of eval.h's switch).
 // One template walk over a vector type V (expr/interval_batch_simd.h), compiled for SSE2, AVX2
@@ -401,6 +403,51 @@ template <class V>
     for (int w = 0; w * 64 < n; ++w) o.defined[w] = x.defined[w];
 }
 
+/// exp of lanes 0 … n − 1, as interval.h's exp() computes it: the bounds of interval/exp_kernel.h,
+/// V::kWidth lanes at a time, where both bounds of a lane take it (finite, non-zero, within ±708,
+/// lo ≤ hi); exp() itself for the others (libm's bounds on the bounds the kernel leaves; an
+/// empty operand), on the operand as it was (the output may be the operand's register).
+template <class V>
+[[gnu::always_inline]] inline void exp_lanes(const Lanes& a, Lanes& o, int n) {
+    using R = typename V::R;
+    using K = certray::detail::ExpKernel;
+    R lo_coef[17], hi_coef[17];
+    for (int i = 0; i < 17; ++i) {
+        lo_coef[i] = V::set1(K::kLo[i]);
+        hi_coef[i] = V::set1(K::kHi[i]);
+    }
+    alignas(64) double lo[kIntervalLanes], hi[kIntervalLanes];
+    for (int k = 0; k < n; k += V::kWidth) {
+        const R below = certray::detail::exp_bound<V>(V::load(a.lo + k), V::set1(-1.0), lo_coef);
+        V::store(lo + k, V::neg(below));
+        V::store(hi + k, certray::detail::exp_bound<V>(V::load(a.hi + k), V::set1(1.0), hi_coef));
+    }
+    for (int w = 0; w * 64 < n; ++w) {
+        const int begin = w * 64, end = std::min(n, begin + 64);
+        const std::uint64_t def = a.defined[w];  // read before o is written
+        std::uint64_t slow = 0;
+        for (int k = begin; k < end; ++k) {
+            const double l = a.lo[k], u = a.hi[k];
+            if (l <= u && certray::detail::exp_kernel_applies(l) &&
+                certray::detail::exp_kernel_applies(u)) {
+                o.lo[k] = lo[k];
+                o.hi[k] = hi[k];
+            } else {
+                slow |= std::uint64_t{1} << (k - begin);
+            }
+        }
+        std::uint64_t slow_def = 0;
+        for (std::uint64_t m = slow; m != 0; m &= m - 1) {
+            const int k = begin + __builtin_ctzll(m);
+            const UpInterval v = exp(lane(a, k));
+            o.lo[k] = v.lower();
+            o.hi[k] = v.upper();
+            slow_def |= std::uint64_t{v.defined} << (k - begin);
+        }
+        o.defined[w] = (def & ~slow) | slow_def;
+    }
+}
+
 /// The walk over vectors of V.
 template <class V>
 inline void walk(const Instr* in, const Instr* const end, const Lanes* p, Lanes* r, int n) {
@@ -433,8 +480,10 @@ inline void walk(const Instr* in, const Instr* const end, const Lanes* p, Lanes*
                 CERTRAY_VECTOR_CASE(Max)
 #undef CERTRAY_VECTOR_CASE
             case Op::Exp:
+                exp_lanes<V>(r[in->a], r[in->out], n);
+                break;
             case Op::Log:
-                exp_log_lanes(in->op == Op::Exp, r[in->a], r[in->out], n);
+                exp_log_lanes(false, r[in->a], r[in->out], n);
                 break;
             case Op::Sin:
             case Op::Cos:

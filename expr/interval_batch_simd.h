@@ -7,11 +7,13 @@
 // b) = (a > b) ? a : b, min(a, b) = (a < b) ? a : b, NaN and equal operands giving b, exactly
 // interval.h's max2/min2 and the MAXPD of its two-lane product kernel — and M (a mask of kWidth
 // lanes), ordered comparisons (false for NaN), and/or of masks, select, the mask as kWidth bits,
-// and prev (the double whose bits are one less). The AVX types' functions carry target
+// and prev (the double whose bits are one less), and pow2 (2^kd for integral kd in [−1022, 1021],
+// exactly; interval/exp_kernel.h's). The AVX types' functions carry target
 // attributes: they inline only into functions compiled for that target (no -march anywhere).
 #pragma once
 
 #include "expr/batch_simd.h"
+#include "interval/exp_kernel.h"
 
 namespace certray::expr::detail {
 // Internal linkage, as if written in eval_interval_batch.cpp, the one file that includes this
@@ -21,6 +23,7 @@ namespace {
 #if CERTRAY_BATCH_X86
 struct IvSse2 : Sse2 {
     using M = __m128d;
+    static R pow2(R kd) { return certray::detail::ExpSse2::pow2(kd); }
     static R max(R a, R b) { return _mm_max_pd(a, b); }
     static R min(R a, R b) { return _mm_min_pd(a, b); }
     static R prev(R a) {
@@ -39,6 +42,12 @@ struct IvSse2 : Sse2 {
 #define CERTRAY_AVX2 [[gnu::target("avx2")]]
 struct IvAvx2 : Avx2 {
     using M = __m256d;
+    CERTRAY_AVX2 static R pow2(R kd) {  // as ExpSse2::pow2, four lanes
+        using K = certray::detail::ExpKernel;
+        const __m256i b = _mm256_castpd_si256(_mm256_add_pd(kd, _mm256_set1_pd(K::kMagic)));
+        return _mm256_castsi256_pd(
+            _mm256_slli_epi64(_mm256_sub_epi64(b, _mm256_set1_epi64x(K::kPow2Bias)), 52));
+    }
     CERTRAY_AVX2 static R max(R a, R b) { return _mm256_max_pd(a, b); }
     CERTRAY_AVX2 static R min(R a, R b) { return _mm256_min_pd(a, b); }
     CERTRAY_AVX2 static R prev(R a) {
@@ -58,6 +67,12 @@ struct IvAvx2 : Avx2 {
 #define CERTRAY_AVX512 [[gnu::target("avx512f")]]
 struct IvAvx512 : Avx512 {
     using M = __mmask8;
+    CERTRAY_AVX512 static R pow2(R kd) {  // as ExpSse2::pow2, eight lanes
+        using K = certray::detail::ExpKernel;
+        const __m512i b = _mm512_castpd_si512(_mm512_add_pd(kd, _mm512_set1_pd(K::kMagic)));
+        return _mm512_castsi512_pd(
+            _mm512_slli_epi64(_mm512_sub_epi64(b, _mm512_set1_epi64(K::kPow2Bias)), 52));
+    }
     CERTRAY_AVX512 static R max(R a, R b) { return _mm512_max_pd(a, b); }
     CERTRAY_AVX512 static R min(R a, R b) { return _mm512_min_pd(a, b); }
     CERTRAY_AVX512 static R prev(R a) {

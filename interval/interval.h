@@ -18,7 +18,9 @@
 // x87 control word directly (what glibc's fesetround does, without the libm call).
 // + − × square sqrt abs min max are branch-free on the common path (one predictable test sends
 // infinities, NaN and empty operands to Boost's case tables: the same bounds, bit for bit, up to
-// the sign of a zero bound); ÷ and pow are Boost's. exp, log, sin, cos: glibc ignores the rounding
+// the sign of a zero bound); ÷ and pow are Boost's. exp on x86-64 where |x| ≤ 708, x ≠ 0: the
+// bounds of interval/exp_kernel.h (additions and products in upward mode, no libm). Otherwise
+// exp, log, sin, cos: glibc ignores the rounding
 // mode, so the round-to-nearest result is widened outward by kTranscUlps ulps (glibc documents
 // ≤ 1 ulp for these on x86_64), with exact values at the points where the function value is
 // exactly representable; both bounds of an interval are computed under one switch to
@@ -38,6 +40,8 @@
 #include <emmintrin.h>
 #define CERTRAY_X86_64_ROUNDING 1
 #endif
+
+#include "interval/exp_kernel.h"
 
 namespace certray {
 
@@ -847,6 +851,19 @@ BasicInterval<M> exp(const BasicInterval<M>& x) {
     if (x.is_empty()) return BasicInterval<M>::empty();
     typename M::Policies::rounding rnd;
     double lo = x.lower(), hi = x.upper();
+#ifdef CERTRAY_X86_64_ROUNDING
+    // Bounds from interval/exp_kernel.h where it applies (no libm, no mode switch), libm's
+    // otherwise.
+    const bool kernel_lo = detail::exp_kernel_applies(lo),
+               kernel_hi = detail::exp_kernel_applies(hi);
+    if (kernel_lo || kernel_hi) {
+        double b[2];
+        detail::exp_kernel_bounds(kernel_lo ? lo : 1.0, kernel_hi ? hi : 1.0, b);
+        if (!kernel_lo || !kernel_hi) rnd.exp_bounds(lo, hi);
+        return {typename BasicInterval<M>::Boost(kernel_lo ? b[0] : lo, kernel_hi ? b[1] : hi),
+                x.defined};
+    }
+#endif
     rnd.exp_bounds(lo, hi);  // both bounds under one mode switch
     return {typename BasicInterval<M>::Boost(lo, hi), x.defined};
 }

@@ -1,0 +1,179 @@
+// tests/interval/exp_kernel_test.cpp — interval/exp_kernel.h: its constants against MPFR, its
+// bounds against MPFR's exp at random and chosen points (both sides, within a few ulps), and the
+// interval exp built on it at the edges of where it applies.
+#include "interval/exp_kernel.h"
+
+#include <gtest/gtest.h>
+#include <mpfr.h>
+#include <rapidcheck/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "interval/interval.h"
+#include "interval/mpfr_interval.h"
+#include "tests/support/mpfr_oracle.h"
+
+namespace certray {
+namespace {
+
+#ifdef CERTRAY_X86_64_ROUNDING
+
+/// An MPFR number at 256 bits, cleared on scope exit.
+struct Big {
+    mpfr_t v;
+    Big() { mpfr_init2(v, 256); }
+    ~Big() { mpfr_clear(v); }
+    Big(const Big&) = delete;
+    Big& operator=(const Big&) = delete;
+};
+
+TEST(ExpKernel, CoefficientsBoundTheReciprocalFactorials) {
+    using K = detail::ExpKernel;
+    for (unsigned i = 0; i <= 16; ++i) {
+        Big f, lo, hi;
+        mpfr_fac_ui(f.v, i, MPFR_RNDN);  // exact: i! has far fewer than 256 bits
+        mpfr_ui_div(lo.v, 1, f.v, MPFR_RNDD);
+        mpfr_ui_div(hi.v, 1, f.v, MPFR_RNDU);
+        EXPECT_GE(mpfr_cmp_d(lo.v, K::kLo[i]), 0) << i;  // kLo ≤ 1/i! rounded down ≤ 1/i!
+        EXPECT_LE(mpfr_cmp_d(hi.v, K::kHi[i]), 0) << i;  // kHi ≥ 1/i! rounded up ≥ 1/i!
+        if (i < 16) {
+            EXPECT_TRUE(std::nextafter(K::kLo[i], 1.0) == K::kHi[i] || K::kLo[i] == K::kHi[i])
+                << i << ": the bounds are equal or adjacent doubles";
+        }
+    }
+    // The last upper bound holds the remainder: 1/16! + ρ·e^ρ/17! with ρ = 0.6932.
+    Big rho, e, t, f;
+    mpfr_set_str(rho.v, "0.6932", 10, MPFR_RNDU);
+    mpfr_exp(e.v, rho.v, MPFR_RNDU);
+    mpfr_mul(t.v, rho.v, e.v, MPFR_RNDU);
+    mpfr_fac_ui(f.v, 17, MPFR_RNDN);
+    mpfr_div(t.v, t.v, f.v, MPFR_RNDU);
+    mpfr_fac_ui(f.v, 16, MPFR_RNDN);
+    mpfr_ui_div(f.v, 1, f.v, MPFR_RNDU);
+    mpfr_add(t.v, t.v, f.v, MPFR_RNDU);
+    EXPECT_LE(mpfr_cmp_d(t.v, K::kHi[16]), 0);
+    // e^ρ < 2.0002, and ρ exceeds ln2·(1 + 2⁻²⁹), the most r can be.
+    EXPECT_LT(mpfr_cmp_d(e.v, 2.0002), 0);
+    Big ln2, top;
+    mpfr_const_log2(ln2.v, MPFR_RNDU);
+    mpfr_mul_d(top.v, ln2.v, 1 + std::ldexp(1.0, -29), MPFR_RNDU);
+    EXPECT_LT(mpfr_cmp(top.v, rho.v), 0);
+}
+
+TEST(ExpKernel, SplitOfLn2) {
+    using K = detail::ExpKernel;
+    Big ln2, c2, err;
+    mpfr_const_log2(ln2.v, MPFR_RNDN);  // within 2⁻²⁵⁶ of ln2
+    EXPECT_GT(mpfr_cmp_d(ln2.v, K::kC1), 0);
+    // C1 has at most 32 significant bits, so k·C1 is exact for |k| < 2²¹.
+    const double scaled = std::ldexp(K::kC1, 32);
+    EXPECT_EQ(scaled, std::floor(scaled));
+    mpfr_sub_d(c2.v, ln2.v, K::kC1, MPFR_RNDN);
+    mpfr_sub_d(err.v, c2.v, K::kC2, MPFR_RNDN);
+    mpfr_abs(err.v, err.v, MPFR_RNDN);
+    mpfr_mul_ui(err.v, err.v, 1100, MPFR_RNDU);
+    EXPECT_LT(mpfr_cmp_d(err.v, K::kSlack), 0);  // with room for MPFR's 2⁻²⁵⁶
+}
+
+/// The kernel's bounds of exp(x) (both sides at x), checked against MPFR: enclosing, and within
+/// `ulps` ulps of exp(x) each.
+void expect_tight_enclosure(double x, double ulps = 6) {
+    double b[2];
+    {
+        RoundingScope up;
+        detail::exp_kernel_bounds(x, x, b);
+    }
+    const MpfrInterval exact = exp(MpfrInterval(x));
+    ASSERT_TRUE(testing::encloses(b[0], b[1], exact))
+        << "x = " << x << ": [" << b[0] << ", " << b[1] << "] against " << testing::describe(exact);
+    const double mid = std::exp(x);
+    const double ulp = std::nextafter(mid, INFINITY) - mid;
+    EXPECT_LE(mid - b[0], ulps * ulp) << x;
+    EXPECT_LE(b[1] - mid, ulps * ulp) << x;
+}
+
+TEST(ExpKernel, BoundsAtChosenPoints) {
+    const double ln2 = 0.6931471805599453;
+    std::vector<double> xs = {1e-300,
+                              -1e-300,
+                              5e-324,
+                              1e-17,
+                              -1e-17,
+                              1e-9,
+                              0.5,
+                              1,
+                              -1,
+                              2,
+                              ln2,
+                              -ln2,
+                              0.5 * ln2,
+                              708,
+                              -708,
+                              707.9999999999999,
+                              100,
+                              -100,
+                              std::nextafter(708.0, 0.0),
+                              std::nextafter(-708.0, 0.0)};
+    // Around multiples of ln2 and of ln2/2 (where k changes), a few ulps either side.
+    for (int k = -1021; k <= 1021; k += 97) {
+        for (double m : {k * ln2, (k + 0.5) * ln2}) {
+            double x = m;
+            for (int s = 0; s < 4; ++s) x = std::nextafter(x, -INFINITY);
+            for (int s = 0; s < 8; ++s, x = std::nextafter(x, INFINITY)) {
+                if (detail::exp_kernel_applies(x)) xs.push_back(x);
+            }
+        }
+    }
+    for (double x : xs) expect_tight_enclosure(x);
+}
+
+RC_GTEST_PROP(ExpKernel, EnclosesExpAtRandomPoints, ()) {
+    const int kind = *rc::gen::inRange(0, 3);
+    double x = 0;
+    if (kind == 0) {
+        x = *rc::gen::inRange(-708000000, 708000001) * 1e-6;
+    } else if (kind == 1) {  // small magnitudes, down to the subnormals
+        const int e = *rc::gen::inRange(-1074, 1);
+        x = std::ldexp(*rc::gen::inRange(1, 1 << 30) * 0x1p-30, e) *
+            (*rc::gen::arbitrary<bool>() ? 1 : -1);
+    } else {  // the whole range, bit patterns
+        x = *rc::gen::inRange(-708, 709) + *rc::gen::inRange(0, 1 << 30) * 0x1p-30;
+    }
+    RC_PRE(detail::exp_kernel_applies(x));
+    double b[2];
+    {
+        RoundingScope up;
+        detail::exp_kernel_bounds(x, x, b);
+    }
+    const MpfrInterval exact = exp(MpfrInterval(x));
+    RC_ASSERT(testing::encloses(b[0], b[1], exact));
+    const double mid = std::exp(x);
+    const double ulp = std::nextafter(mid, INFINITY) - mid;
+    RC_ASSERT(mid - b[0] <= 6 * ulp);
+    RC_ASSERT(b[1] - mid <= 6 * ulp);
+}
+
+// The interval exp: the kernel inside [−708, 708] except 0, libm outside, on each bound alone.
+TEST(ExpKernel, IntervalExpAtTheEdges) {
+    const double inf = std::numeric_limits<double>::infinity();
+    const double cases[][2] = {
+        {0, 0},       {-1, 0},      {0, 1},       {-inf, 0},    {-inf, inf},       {700, 709.7},
+        {-745, -700}, {-750, -740}, {708, 708.5}, {-709, -708}, {-1e-300, 1e-300}, {1, 2}};
+    for (const auto& c : cases) {
+        const Interval v = exp(Interval(c[0], c[1]));
+        const MpfrInterval exact = exp(MpfrInterval(c[0], c[1]));
+        EXPECT_TRUE(testing::encloses(v.lower(), v.upper(), exact))
+            << "exp[" << c[0] << ", " << c[1] << "] = [" << v.lower() << ", " << v.upper()
+            << "] against " << testing::describe(exact);
+    }
+    EXPECT_EQ(exp(Interval(0.0)).lower(), 1.0);  // exact where exp is
+    EXPECT_EQ(exp(Interval(0.0)).upper(), 1.0);
+    EXPECT_EQ(exp(Interval(-inf, 0.0)).lower(), 0.0);
+}
+
+#endif
+
+}  // namespace
+}  // namespace certray
