@@ -13,9 +13,9 @@
 //   and no decoration; where it calls Boost's case table (+ − × at infinite bounds or on empty
 //   operands), the lane calls the scalar operation itself, on the operands as they were before the
 //   instruction wrote its register.
-// - Exp (x86): interval/exp_kernel.h's bounds on kWidth lanes at once, as the scalar exp() takes
-//   them; lanes with a bound where the kernel does not apply call the scalar exp().
-// - Log (and Exp elsewhere): the scalar log() and exp() with their nearest2 batched: one write of
+// - Exp, Log (x86): interval/exp_log_kernel.h's bounds on kWidth lanes at once, as the scalar exp()
+//   and log() take them; lanes with a bound where the kernel does not apply call the scalar one.
+// - Exp, Log elsewhere: the scalar exp() and log() with their nearest2 batched: one write of
 //   MXCSR to round-to-nearest for all lanes of the instruction, libm lane by lane, one write back
 //   to upward, then the same widening (exp_below/exp_above, log_below/log_above); the lanes log
 //   sends to Boost (a bound ≤ 0, empty) call the scalar log.
@@ -201,7 +201,7 @@ UpInterval exp_log_lane(bool is_exp, const Lanes& a, int k, double fa, double fb
 /// bits + 2 capped at +inf; log: finite bounds ≠ 1 with 0 < l, normal results, where the steps
 /// never cross 0 or reach ±inf); every other lane takes exp_log_lane. The output may be the
 /// operand's register.
-[[gnu::noinline]] void exp_log_lanes(bool is_exp, const Lanes& a, Lanes& o, int n) {
+[[gnu::noinline, maybe_unused]] void exp_log_lanes(bool is_exp, const Lanes& a, Lanes& o, int n) {
     static_assert(certray::detail::kTranscUlps == 2, "exp_log_lanes steps two ulps");
     constexpr double kInf = std::numeric_limits<double>::infinity();
     alignas(64) double fa[kIntervalLanes], fb[kIntervalLanes];
@@ -403,10 +403,43 @@ template <class V>
     for (int w = 0; w * 64 < n; ++w) o.defined[w] = x.defined[w];
 }
 
-/// exp of lanes 0 … n − 1, as interval.h's exp() computes it: the bounds of interval/exp_kernel.h,
-/// V::kWidth lanes at a time, where both bounds of a lane take it (finite, non-zero, within ±708,
-/// lo ≤ hi); exp() itself for the others (libm's bounds on the bounds the kernel leaves; an
-/// empty operand), on the operand as it was (the output may be the operand's register).
+/// The output of exp_lanes and log_lanes: lo[k], hi[k] (the kernel's bounds) where both bounds of
+/// lane k of `a` take the kernel (`applies`) and lo ≤ hi, with a's decoration; the scalar
+/// function `f` on the operand as it was elsewhere (the output may be the operand's register).
+template <class Applies, class F>
+[[gnu::always_inline]] inline void kernel_or_scalar(const Lanes& a, Lanes& o, int n,
+                                                    const double* lo, const double* hi,
+                                                    Applies applies, F f) {
+    for (int w = 0; w * 64 < n; ++w) {
+        const int begin = w * 64, end = std::min(n, begin + 64);
+        const std::uint64_t def = a.defined[w];  // read before o is written
+        std::uint64_t slow = 0;
+        for (int k = begin; k < end; ++k) {
+            const double l = a.lo[k], u = a.hi[k];
+            if (l <= u && applies(l) && applies(u)) {
+                o.lo[k] = lo[k];
+                o.hi[k] = hi[k];
+            } else {
+                slow |= std::uint64_t{1} << (k - begin);
+            }
+        }
+        std::uint64_t slow_def = 0;
+        for (std::uint64_t m = slow; m != 0; m &= m - 1) {
+            const int k = begin + __builtin_ctzll(m);
+            const UpInterval v = f(lane(a, k));
+            o.lo[k] = v.lower();
+            o.hi[k] = v.upper();
+            slow_def |= std::uint64_t{v.defined} << (k - begin);
+        }
+        o.defined[w] = (def & ~slow) | slow_def;
+    }
+}
+
+/// exp of lanes 0 … n − 1, as interval.h's exp() computes it: the bounds of
+/// interval/exp_log_kernel.h, V::kWidth lanes at a time, where both bounds of a lane take it
+/// (finite, non-zero, within ±708, lo ≤ hi); exp() itself for the others (libm's bounds on the
+/// bounds the kernel leaves; an empty operand), on the operand as it was (the output may be the
+/// operand's register).
 template <class V>
 [[gnu::always_inline]] inline void exp_lanes(const Lanes& a, Lanes& o, int n) {
     using R = typename V::R;
@@ -422,30 +455,22 @@ template <class V>
         V::store(lo + k, V::neg(below));
         V::store(hi + k, certray::detail::exp_bound<V>(V::load(a.hi + k), V::set1(1.0), hi_coef));
     }
-    for (int w = 0; w * 64 < n; ++w) {
-        const int begin = w * 64, end = std::min(n, begin + 64);
-        const std::uint64_t def = a.defined[w];  // read before o is written
-        std::uint64_t slow = 0;
-        for (int k = begin; k < end; ++k) {
-            const double l = a.lo[k], u = a.hi[k];
-            if (l <= u && certray::detail::exp_kernel_applies(l) &&
-                certray::detail::exp_kernel_applies(u)) {
-                o.lo[k] = lo[k];
-                o.hi[k] = hi[k];
-            } else {
-                slow |= std::uint64_t{1} << (k - begin);
-            }
-        }
-        std::uint64_t slow_def = 0;
-        for (std::uint64_t m = slow; m != 0; m &= m - 1) {
-            const int k = begin + __builtin_ctzll(m);
-            const UpInterval v = exp(lane(a, k));
-            o.lo[k] = v.lower();
-            o.hi[k] = v.upper();
-            slow_def |= std::uint64_t{v.defined} << (k - begin);
-        }
-        o.defined[w] = (def & ~slow) | slow_def;
+    kernel_or_scalar(a, o, n, lo, hi, certray::detail::exp_kernel_applies,
+                     [](const UpInterval& x) { return exp(x); });
+}
+
+/// log of lanes 0 … n − 1, as interval.h's log() computes it: the kernel's bounds where both
+/// bounds of a lane take it (normal, positive, finite, not 1, lo ≤ hi), log() itself for the
+/// others, as exp_lanes.
+template <class V>
+[[gnu::always_inline]] inline void log_lanes(const Lanes& a, Lanes& o, int n) {
+    alignas(64) double lo[kIntervalLanes], hi[kIntervalLanes];
+    for (int k = 0; k < n; k += V::kWidth) {
+        V::store(lo + k, V::neg(certray::detail::log_bound<V>(V::load(a.lo + k), V::set1(-1.0))));
+        V::store(hi + k, certray::detail::log_bound<V>(V::load(a.hi + k), V::set1(1.0)));
     }
+    kernel_or_scalar(a, o, n, lo, hi, certray::detail::log_kernel_applies,
+                     [](const UpInterval& x) { return log(x); });
 }
 
 /// The walk over vectors of V.
@@ -483,7 +508,7 @@ inline void walk(const Instr* in, const Instr* const end, const Lanes* p, Lanes*
                 exp_lanes<V>(r[in->a], r[in->out], n);
                 break;
             case Op::Log:
-                exp_log_lanes(false, r[in->a], r[in->out], n);
+                log_lanes<V>(r[in->a], r[in->out], n);
                 break;
             case Op::Sin:
             case Op::Cos:

@@ -8,12 +8,12 @@
 // interval.h's max2/min2 and the MAXPD of its two-lane product kernel — and M (a mask of kWidth
 // lanes), ordered comparisons (false for NaN), and/or of masks, select, the mask as kWidth bits,
 // and prev (the double whose bits are one less), and pow2 (2^kd for integral kd in [−1022, 1021],
-// exactly; interval/exp_kernel.h's). The AVX types' functions carry target
+// exactly; interval/exp_log_kernel.h's). The AVX types' functions carry target
 // attributes: they inline only into functions compiled for that target (no -march anywhere).
 #pragma once
 
 #include "expr/batch_simd.h"
-#include "interval/exp_kernel.h"
+#include "interval/exp_log_kernel.h"
 
 namespace certray::expr::detail {
 // Internal linkage, as if written in eval_interval_batch.cpp, the one file that includes this
@@ -23,7 +23,10 @@ namespace {
 #if CERTRAY_BATCH_X86
 struct IvSse2 : Sse2 {
     using M = __m128d;
-    static R pow2(R kd) { return certray::detail::ExpSse2::pow2(kd); }
+    static R pow2(R kd) { return certray::detail::KernelSse2::pow2(kd); }
+    static R sign_of(R a) { return certray::detail::KernelSse2::sign_of(a); }
+    static R flip(R a, R m) { return certray::detail::KernelSse2::flip(a, m); }
+    static void log_split(R x, R& e, R& m) { certray::detail::KernelSse2::log_split(x, e, m); }
     static R max(R a, R b) { return _mm_max_pd(a, b); }
     static R min(R a, R b) { return _mm_min_pd(a, b); }
     static R prev(R a) {
@@ -42,7 +45,23 @@ struct IvSse2 : Sse2 {
 #define CERTRAY_AVX2 [[gnu::target("avx2")]]
 struct IvAvx2 : Avx2 {
     using M = __m256d;
-    CERTRAY_AVX2 static R pow2(R kd) {  // as ExpSse2::pow2, four lanes
+    CERTRAY_AVX2 static R sign_of(R a) { return _mm256_and_pd(a, _mm256_set1_pd(-0.0)); }
+    CERTRAY_AVX2 static R flip(R a, R m) { return _mm256_xor_pd(a, m); }
+    CERTRAY_AVX2 static void log_split(R x, R& e, R& m) {  // as KernelSse2's, four lanes
+        using K = certray::detail::ExpKernel;
+        const __m256i b = _mm256_castpd_si256(x);
+        const __m256i eb =
+            _mm256_add_epi64(_mm256_srli_epi64(b, 52), _mm256_set1_epi64x(K::kPow2Bias));
+        const R big_e = _mm256_sub_pd(_mm256_castsi256_pd(eb), _mm256_set1_pd(K::kMagic));
+        const R f = _mm256_castsi256_pd(
+            _mm256_or_si256(_mm256_and_si256(b, _mm256_set1_epi64x(0x000fffffffffffffLL)),
+                            _mm256_set1_epi64x(0x3ff0000000000000LL)));
+        const R big =
+            _mm256_cmp_pd(f, _mm256_set1_pd(certray::detail::LogKernel::kSqrt2), _CMP_GE_OQ);
+        e = _mm256_add_pd(big_e, _mm256_and_pd(big, _mm256_set1_pd(1.0)));
+        m = _mm256_blendv_pd(f, _mm256_mul_pd(f, _mm256_set1_pd(0.5)), big);
+    }
+    CERTRAY_AVX2 static R pow2(R kd) {  // as KernelSse2::pow2, four lanes
         using K = certray::detail::ExpKernel;
         const __m256i b = _mm256_castpd_si256(_mm256_add_pd(kd, _mm256_set1_pd(K::kMagic)));
         return _mm256_castsi256_pd(
@@ -67,7 +86,29 @@ struct IvAvx2 : Avx2 {
 #define CERTRAY_AVX512 [[gnu::target("avx512f")]]
 struct IvAvx512 : Avx512 {
     using M = __mmask8;
-    CERTRAY_AVX512 static R pow2(R kd) {  // as ExpSse2::pow2, eight lanes
+    CERTRAY_AVX512 static R sign_of(R a) {  // as KernelSse2's (integer and: none for FP in F)
+        return _mm512_castsi512_pd(_mm512_and_epi64(
+            _mm512_castpd_si512(a), _mm512_set1_epi64(static_cast<long long>(1ull << 63))));
+    }
+    CERTRAY_AVX512 static R flip(R a, R m) {
+        return _mm512_castsi512_pd(
+            _mm512_xor_epi64(_mm512_castpd_si512(a), _mm512_castpd_si512(m)));
+    }
+    CERTRAY_AVX512 static void log_split(R x, R& e, R& m) {  // as KernelSse2's, eight lanes
+        using K = certray::detail::ExpKernel;
+        const __m512i b = _mm512_castpd_si512(x);
+        const __m512i eb =
+            _mm512_add_epi64(_mm512_srli_epi64(b, 52), _mm512_set1_epi64(K::kPow2Bias));
+        const R big_e = _mm512_sub_pd(_mm512_castsi512_pd(eb), _mm512_set1_pd(K::kMagic));
+        const R f = _mm512_castsi512_pd(
+            _mm512_or_epi64(_mm512_and_epi64(b, _mm512_set1_epi64(0x000fffffffffffffLL)),
+                            _mm512_set1_epi64(0x3ff0000000000000LL)));
+        const __mmask8 big =
+            _mm512_cmp_pd_mask(f, _mm512_set1_pd(certray::detail::LogKernel::kSqrt2), _CMP_GE_OQ);
+        e = _mm512_mask_add_pd(big_e, big, big_e, _mm512_set1_pd(1.0));
+        m = _mm512_mask_mul_pd(f, big, f, _mm512_set1_pd(0.5));
+    }
+    CERTRAY_AVX512 static R pow2(R kd) {  // as KernelSse2::pow2, eight lanes
         using K = certray::detail::ExpKernel;
         const __m512i b = _mm512_castpd_si512(_mm512_add_pd(kd, _mm512_set1_pd(K::kMagic)));
         return _mm512_castsi512_pd(

@@ -18,9 +18,9 @@
 // x87 control word directly (what glibc's fesetround does, without the libm call).
 // + − × square sqrt abs min max are branch-free on the common path (one predictable test sends
 // infinities, NaN and empty operands to Boost's case tables: the same bounds, bit for bit, up to
-// the sign of a zero bound); ÷ and pow are Boost's. exp on x86-64 where |x| ≤ 708, x ≠ 0: the
-// bounds of interval/exp_kernel.h (additions and products in upward mode, no libm). Otherwise
-// exp, log, sin, cos: glibc ignores the rounding
+// the sign of a zero bound); ÷ and pow are Boost's. exp and log on x86-64 (exp where |x| ≤ 708,
+// x ≠ 0; log at normal x ≠ 1): the bounds of interval/exp_log_kernel.h (polynomials in upward
+// mode, no libm). Otherwise exp, log, sin, cos: glibc ignores the rounding
 // mode, so the round-to-nearest result is widened outward by kTranscUlps ulps (glibc documents
 // ≤ 1 ulp for these on x86_64), with exact values at the points where the function value is
 // exactly representable; both bounds of an interval are computed under one switch to
@@ -41,7 +41,7 @@
 #define CERTRAY_X86_64_ROUNDING 1
 #endif
 
-#include "interval/exp_kernel.h"
+#include "interval/exp_log_kernel.h"
 
 namespace certray {
 
@@ -852,7 +852,7 @@ BasicInterval<M> exp(const BasicInterval<M>& x) {
     typename M::Policies::rounding rnd;
     double lo = x.lower(), hi = x.upper();
 #ifdef CERTRAY_X86_64_ROUNDING
-    // Bounds from interval/exp_kernel.h where it applies (no libm, no mode switch), libm's
+    // Bounds from interval/exp_log_kernel.h where it applies (no libm, no mode switch), libm's
     // otherwise.
     const bool kernel_lo = detail::exp_kernel_applies(lo),
                kernel_hi = detail::exp_kernel_applies(hi);
@@ -876,6 +876,18 @@ BasicInterval<M> log(const BasicInterval<M>& x) {
     if (!(x.lower() > 0)) return {boost::numeric::log(x.iv), false};  // [−inf, log_up(b)]
     typename M::Policies::rounding rnd;
     double lo = x.lower(), hi = x.upper();
+#ifdef CERTRAY_X86_64_ROUNDING
+    // As exp: the kernel's bounds where it applies, libm's otherwise.
+    const bool kernel_lo = detail::log_kernel_applies(lo);
+    const bool kernel_hi = detail::log_kernel_applies(hi);
+    if (kernel_lo || kernel_hi) {
+        double b[2];
+        detail::log_kernel_bounds(kernel_lo ? lo : 2.0, kernel_hi ? hi : 2.0, b);
+        if (!kernel_lo || !kernel_hi) rnd.log_bounds(lo, hi);
+        return {typename BasicInterval<M>::Boost(kernel_lo ? b[0] : lo, kernel_hi ? b[1] : hi),
+                x.defined};
+    }
+#endif
     rnd.log_bounds(lo, hi);  // both bounds under one mode switch
     return {typename BasicInterval<M>::Boost(lo, hi), x.defined};
 }

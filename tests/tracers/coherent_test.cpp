@@ -343,7 +343,9 @@ TEST(Coherent, ImageScansInLanesAgreeWithThePerRaySolver) {
                 EXPECT_EQ(a.wrong, 0u) << where << ": " << a.first_wrong;
                 EXPECT_EQ(a.undecided, 0u) << where;
                 EXPECT_EQ(a.same, a.rays) << where;
-                if (!lanes) EXPECT_EQ(stats.lane_forms, 0u) << where;
+                if (!lanes) {
+                    EXPECT_EQ(stats.lane_forms, 0u) << where;
+                }
                 if (lanes && path.filename() == "barth_sextic.vm") barth_forms += stats.lane_forms;
             }
         }

@@ -1,7 +1,7 @@
-// tests/interval/exp_kernel_test.cpp — interval/exp_kernel.h: its constants against MPFR, its
-// bounds against MPFR's exp at random and chosen points (both sides, within a few ulps), and the
-// interval exp built on it at the edges of where it applies.
-#include "interval/exp_kernel.h"
+// tests/interval/exp_log_kernel_test.cpp — interval/exp_log_kernel.h: its constants against MPFR,
+// its bounds against MPFR's exp and log at random and chosen points (both sides, within a few
+// ulps), and the interval exp and log built on it at the edges of where the kernels apply.
+#include "interval/exp_log_kernel.h"
 
 #include <gtest/gtest.h>
 #include <mpfr.h>
@@ -77,9 +77,9 @@ TEST(ExpKernel, SplitOfLn2) {
     EXPECT_LT(mpfr_cmp_d(err.v, K::kSlack), 0);  // with room for MPFR's 2⁻²⁵⁶
 }
 
-/// The kernel's bounds of exp(x) (both sides at x), checked against MPFR: enclosing, and within
-/// `ulps` ulps of exp(x) each.
-void expect_tight_enclosure(double x, double ulps = 6) {
+/// The kernel's bounds of exp(x) (both sides at x), checked against MPFR: enclosing, and each
+/// within 6·2⁻⁵² of exp(x), relatively.
+void expect_tight_enclosure(double x) {
     double b[2];
     {
         RoundingScope up;
@@ -88,10 +88,9 @@ void expect_tight_enclosure(double x, double ulps = 6) {
     const MpfrInterval exact = exp(MpfrInterval(x));
     ASSERT_TRUE(testing::encloses(b[0], b[1], exact))
         << "x = " << x << ": [" << b[0] << ", " << b[1] << "] against " << testing::describe(exact);
-    const double mid = std::exp(x);
-    const double ulp = std::nextafter(mid, INFINITY) - mid;
-    EXPECT_LE(mid - b[0], ulps * ulp) << x;
-    EXPECT_LE(b[1] - mid, ulps * ulp) << x;
+    const double mid = std::exp(x), tol = 6 * 0x1p-52 * mid;
+    EXPECT_LE(mid - b[0], tol) << x;
+    EXPECT_LE(b[1] - mid, tol) << x;
 }
 
 TEST(ExpKernel, BoundsAtChosenPoints) {
@@ -149,10 +148,9 @@ RC_GTEST_PROP(ExpKernel, EnclosesExpAtRandomPoints, ()) {
     }
     const MpfrInterval exact = exp(MpfrInterval(x));
     RC_ASSERT(testing::encloses(b[0], b[1], exact));
-    const double mid = std::exp(x);
-    const double ulp = std::nextafter(mid, INFINITY) - mid;
-    RC_ASSERT(mid - b[0] <= 6 * ulp);
-    RC_ASSERT(b[1] - mid <= 6 * ulp);
+    const double mid = std::exp(x), tol = 6 * 0x1p-52 * mid;
+    RC_ASSERT(mid - b[0] <= tol);
+    RC_ASSERT(b[1] - mid <= tol);
 }
 
 // The interval exp: the kernel inside [−708, 708] except 0, libm outside, on each bound alone.
@@ -171,6 +169,140 @@ TEST(ExpKernel, IntervalExpAtTheEdges) {
     EXPECT_EQ(exp(Interval(0.0)).lower(), 1.0);  // exact where exp is
     EXPECT_EQ(exp(Interval(0.0)).upper(), 1.0);
     EXPECT_EQ(exp(Interval(-inf, 0.0)).lower(), 0.0);
+}
+
+TEST(LogKernel, Constants) {
+    using K = detail::LogKernel;
+    for (unsigned i = 0; i < 10; ++i) {
+        Big lo, hi;
+        mpfr_set_ui(lo.v, 1, MPFR_RNDN);
+        mpfr_div_ui(lo.v, lo.v, 2 * i + 1, MPFR_RNDD);
+        mpfr_set_ui(hi.v, 1, MPFR_RNDN);
+        mpfr_div_ui(hi.v, hi.v, 2 * i + 1, MPFR_RNDU);
+        EXPECT_GE(mpfr_cmp_d(lo.v, K::kLo[i]), 0) << i;
+        EXPECT_LE(mpfr_cmp_d(hi.v, K::kHi[i]), 0) << i;
+        if (i < 9) {
+            EXPECT_TRUE(std::nextafter(K::kLo[i], 1.0) == K::kHi[i] || K::kLo[i] == K::kHi[i]) << i;
+        }
+    }
+    // The last upper bound holds the tail of the series: 1/19 + w/(21·(1 − w)), w = 0.0295, and w
+    // bounds v² = ((m − 1)/(m + 1))² for m in [√2/2, √2) with √2 the kernel's double.
+    Big w, t, one;
+    mpfr_set_str(w.v, "0.0295", 10, MPFR_RNDU);
+    mpfr_ui_sub(t.v, 1, w.v, MPFR_RNDD);
+    mpfr_mul_ui(t.v, t.v, 21, MPFR_RNDD);
+    mpfr_div(t.v, w.v, t.v, MPFR_RNDU);
+    mpfr_set_ui(one.v, 1, MPFR_RNDN);
+    mpfr_div_ui(one.v, one.v, 19, MPFR_RNDU);
+    mpfr_add(t.v, t.v, one.v, MPFR_RNDU);
+    EXPECT_LE(mpfr_cmp_d(t.v, K::kHi[9]), 0);
+    for (const double m : {K::kSqrt2, K::kSqrt2 / 2}) {
+        Big v;
+        mpfr_set_d(v.v, m, MPFR_RNDN);
+        mpfr_sub_ui(t.v, v.v, 1, MPFR_RNDN);
+        mpfr_add_ui(v.v, v.v, 1, MPFR_RNDN);
+        mpfr_div(v.v, t.v, v.v, MPFR_RNDU);
+        mpfr_sqr(v.v, v.v, MPFR_RNDU);
+        EXPECT_LT(mpfr_cmp(v.v, w.v), 0) << m;
+    }
+    Big ln2;
+    mpfr_const_log2(ln2.v, MPFR_RNDN);
+    EXPECT_GT(mpfr_cmp_d(ln2.v, K::kLn2Lo), 0);
+    EXPECT_LT(mpfr_cmp_d(ln2.v, K::kLn2Hi), 0);
+    EXPECT_EQ(std::nextafter(K::kLn2Lo, 1.0), K::kLn2Hi);
+}
+
+/// The kernel's bounds of log(x) against MPFR: enclosing, each within 8·2⁻⁵² of log(x),
+/// relatively.
+void expect_tight_log(double x) {
+    double b[2];
+    {
+        RoundingScope up;
+        detail::log_kernel_bounds(x, x, b);
+    }
+    const MpfrInterval exact = log(MpfrInterval(x));
+    ASSERT_TRUE(testing::encloses(b[0], b[1], exact))
+        << "x = " << x << ": [" << b[0] << ", " << b[1] << "] against " << testing::describe(exact);
+    const double mid = std::log(x), tol = 8 * 0x1p-52 * std::fabs(mid);
+    EXPECT_LE(mid - b[0], tol) << x;
+    EXPECT_LE(b[1] - mid, tol) << x;
+}
+
+TEST(LogKernel, BoundsAtChosenPoints) {
+    using K = detail::LogKernel;
+    std::vector<double> xs = {2,
+                              0.5,
+                              4,
+                              1e-300,
+                              1e300,
+                              0x1p-1022,
+                              0x1.fffffffffffffp+1023,
+                              3,
+                              10,
+                              0.1,
+                              2.718281828459045,
+                              K::kSqrt2,
+                              K::kSqrt2 / 2};
+    // Next to 1 (log x ≈ x − 1, relative accuracy there), next to √2·2ᵏ (the split), powers of 2.
+    for (double x = 1, y = 1, s = 0; s < 12; ++s) {
+        x = std::nextafter(x, 2.0);
+        y = std::nextafter(y, 0.0);
+        xs.push_back(x);
+        xs.push_back(y);
+    }
+    for (int k = -1020; k <= 1020; k += 51) {
+        double x = std::ldexp(K::kSqrt2, k);
+        for (int s = 0; s < 3; ++s) x = std::nextafter(x, 0.0);
+        for (int s = 0; s < 6; ++s, x = std::nextafter(x, INFINITY)) xs.push_back(x);
+        xs.push_back(std::ldexp(1.0, k));
+        xs.push_back(std::ldexp(1.5, k));
+    }
+    for (double x : xs) expect_tight_log(x);
+}
+
+RC_GTEST_PROP(LogKernel, EnclosesLogAtRandomPoints, ()) {
+    const int kind = *rc::gen::inRange(0, 3);
+    double x = 0;
+    if (kind == 0) {  // any normal double
+        x = std::ldexp(1 + *rc::gen::inRange(0, 1 << 30) * 0x1p-30, *rc::gen::inRange(-1022, 1024));
+    } else if (kind == 1) {  // close to 1
+        x = 1 +
+            *rc::gen::inRange(-(1 << 30), 1 << 30) * std::ldexp(1.0, *rc::gen::inRange(-82, -30));
+    } else {
+        x = *rc::gen::inRange(1, 1000000) * 1e-3;
+    }
+    RC_PRE(detail::log_kernel_applies(x));
+    double b[2];
+    {
+        RoundingScope up;
+        detail::log_kernel_bounds(x, x, b);
+    }
+    RC_ASSERT(testing::encloses(b[0], b[1], log(MpfrInterval(x))));
+    const double mid = std::log(x), tol = 8 * 0x1p-52 * std::fabs(mid);
+    RC_ASSERT(mid - b[0] <= tol);
+    RC_ASSERT(b[1] - mid <= tol);
+}
+
+TEST(LogKernel, IntervalLogAtTheEdges) {
+    const double inf = std::numeric_limits<double>::infinity();
+    const double cases[][2] = {{1, 1},
+                               {0.5, 1},
+                               {1, 2},
+                               {1e-310, 1e-300},
+                               {1e-320, 2},
+                               {1e300, inf},
+                               {0x1p-1022, 0x1p-1022},
+                               {0.999, 1.001},
+                               {2, 2}};
+    for (const auto& c : cases) {
+        const Interval v = log(Interval(c[0], c[1]));
+        const MpfrInterval exact = log(MpfrInterval(c[0], c[1]));
+        EXPECT_TRUE(testing::encloses(v.lower(), v.upper(), exact))
+            << "log[" << c[0] << ", " << c[1] << "] = [" << v.lower() << ", " << v.upper()
+            << "] against " << testing::describe(exact);
+    }
+    EXPECT_EQ(log(Interval(1.0)).lower(), 0.0);  // exact where log is
+    EXPECT_EQ(log(Interval(1.0)).upper(), 0.0);
 }
 
 #endif
