@@ -209,7 +209,7 @@ class Walker {
     /// settled as leaf() settles it. False, with nothing evaluated, when a ray's segment is too
     /// long.
     bool scan_together(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
-                       Level& level, unsigned depth);
+                       Level& level, unsigned depth, const Hull& hull);
     /// Enclosures of `list` over the boxes boxes[0, n) into out[0, n).
     void eval_lanes(const Ssa& list, const LaneBox* boxes, std::size_t n,
                     std::vector<UpInterval>& out);
@@ -278,6 +278,17 @@ class Walker {
     /// Whether to try the mean value form on a box of `count` rays: while it is worth its cost
     /// (about four box evaluations) in this tile — the first 16 tries, then while at least one
     /// in four proves, and one in eight otherwise, to notice when it pays again.
+    /// This root tile's tile pieces (scan_together): tried, and tries that saved the rays at least
+    /// four times as many pieces of their own as they cost; tried while they pay: the first 4
+    /// tries, then while one in four wins, and one in 16 otherwise, to notice when they pay again.
+    unsigned tile_tries_ = 0, tile_wins_ = 0, tile_passed_ = 0;
+    bool try_tiles() {
+        if (tile_tries_ < 4 || 4 * tile_wins_ >= tile_tries_ || ++tile_passed_ % 16 == 0) {
+            ++tile_tries_;
+            return true;
+        }
+        return false;
+    }
     bool try_mean_value(unsigned count) {
         if (count > mean_value_rays_) return false;
         if (!adaptive_ || mv_tries_ < 16 || 4 * mv_proofs_ >= mv_tries_ || ++mv_passed_ % 8 == 0) {
@@ -329,6 +340,17 @@ class Walker {
         unsigned i, j;
         double p, q;
     };
+    /// scan_together()'s rays: pixel and segment.
+    struct Segment {
+        unsigned i, j;
+        double tmin, tmax;
+    };
+    std::vector<Segment> segments_;
+    /// scan_together()'s tile pieces: their boxes, enclosures and ends (piece k is
+    /// [tile_t_[k], tile_t_[k + 1]]).
+    std::vector<LaneBox> tile_boxes_;
+    std::vector<UpInterval> tile_values_;
+    std::array<double, 2 * kMaxPieces + 1> tile_t_{};
     std::vector<Piece> pieces_;
     std::vector<std::size_t> first_piece_, point_lane_;
     std::array<expr::IntervalLanes, 3> lane_in_;  ///< eval_lanes()'s boxes, x, y, z
@@ -512,6 +534,7 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
 void Walker::tile(const Rect& r) {
     root_ = r;
     mv_tries_ = mv_proofs_ = mv_passed_ = 0;  // each tile decides afresh (the same in any thread)
+    tile_tries_ = tile_wins_ = tile_passed_ = 0;
     px_.assign(std::size_t{r.w} * r.h, Px{});
     double a = kInf, b = -kInf;
     {
@@ -640,7 +663,7 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     const bool together = count <= options_.together_rays ||
                           (count <= options_.smooth_together_rays && options_.lane_mean_value &&
                            tangent(*sub, depth) != nullptr);
-    if (together && scan_together(r, a, b, *sub, sub_tape, level, depth)) {
+    if (together && scan_together(r, a, b, *sub, sub_tape, level, depth, hull)) {
         return;
     }
     if (count > 1 && depth + 1 < kMaxDepth) {
@@ -818,10 +841,10 @@ void Walker::eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxe
 }
 
 bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
-                           const expr::Tape* tape, Level& level, unsigned depth) {
-    // The pieces of every ray, as scan() cuts them; none if a segment is too long.
-    pieces_.clear();
-    level.scanned.clear();
+                           const expr::Tape* tape, Level& level, unsigned depth, const Hull& hull) {
+    // The rays' segments; none scanned if one is too long.
+    segments_.clear();
+    double w_tile = kInf;  // the narrowest piece width
     for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
         for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
             const Px& p = px(i, j);
@@ -831,17 +854,102 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
             s.tmax = std::min(b, p.ray.tmax);
             const double w = piece_width(s);
             if (!(w > 0 && s.tmax - s.tmin <= kMaxPieces * w)) return false;
-            const int n = pieces_of(s, w);
-            const std::size_t begin = pieces_.size();
-            for (int k = 0; k < n; ++k) {
-                const auto [lo, hi] = piece(s, w, k, n);
-                if (lo < hi) pieces_.push_back({i, j, lo, hi});
-            }
-            RayResult res;
-            res.status = Status::Miss;
-            level.scanned.push_back({i, j, s, res, begin, pieces_.size()});
+            w_tile = std::min(w_tile, w);
+            segments_.push_back({i, j, s.tmin, s.tmax});
         }
     }
+    // Tile pieces: [a, b] cut in pieces of the narrowest width, each one box over all the rays
+    // (the hull's), in one batched evaluation. A piece proven free is free on every ray; a ray's
+    // first piece not proven free decides it when the piece after it is proven inside (solid:
+    // the ray enters {f < 0} in its piece, Hit [p, q]; or at p if the piece itself is inside) or
+    // when the pieces either side have strict opposite signs (zero set, f defined and continuous
+    // on the piece: Hit [p, q]). Otherwise the ray is scanned alone from that piece on.
+    int tiles = 0;
+    if (options_.tile_pieces && hull.count >= 2 && try_tiles()) {
+        const Ray span{{}, {}, a, b};
+        tiles = pieces_of(span, w_tile);
+        if (tiles > 2 * kMaxPieces) tiles = 0;
+        tile_boxes_.clear();
+        for (int k = 0; k < tiles; ++k) {
+            const auto [lo, hi] = piece(span, w_tile, k, tiles);
+            const auto box = segment_box(hull.olo, hull.ohi, hull.dlo, hull.dhi, lo, hi);
+            LaneBox lb;
+            for (int c = 0; c < 3; ++c) {
+                lb.lo[c] = box[c].lower();
+                lb.hi[c] = box[c].upper();
+            }
+            tile_boxes_.push_back(lb);
+            tile_t_[k] = lo;
+            tile_t_[k + 1] = hi;
+        }
+        if (tiles > 0) {
+            eval_lanes(list, tile_boxes_.data(), tiles, tile_values_);
+            stats.tile_pieces += tiles;
+            evals.interval += tiles;
+        }
+    }
+    const auto strict = [](const UpInterval& v) {  // +1, −1: v defined and of one strict sign
+        if (v.is_empty() || !v.defined) return 0;
+        return v.lower() > 0 ? 1 : v.upper() < 0 ? -1 : 0;
+    };
+
+    // The pieces of every ray not decided by the tile pieces, as scan() cuts them.
+    pieces_.clear();
+    level.scanned.clear();
+    std::size_t decided = 0;  // rays the tile pieces answered
+    int saved = 0;            // pieces of the rays' own that the tile pieces made unnecessary
+    for (const Segment& g : segments_) {
+        Ray s = px(g.i, g.j).ray;
+        s.tmin = g.tmin;
+        s.tmax = g.tmax;
+        RayResult res;
+        res.status = Status::Miss;
+        if (tiles > 0) {
+            saved += pieces_of(s, piece_width(s));
+            int k = 0;
+            while (k < tiles && tile_t_[k + 1] <= s.tmin) ++k;  // the piece holding s.tmin
+            for (; k < tiles && tile_t_[k] < s.tmax; ++k) {
+                ++res.evals.interval;
+                const Proof pr = proof(tile_values_[k]);
+                if (pr == Proof::Excluded) continue;
+                const double p = tile_t_[k], q = tile_t_[k + 1];
+                const bool next = k + 1 < tiles && s.tmax >= q;  // the ray reaches piece k + 1
+                const auto hit = [&](double lo, double hi) {
+                    res.status = Status::Hit;
+                    res.t_lo = lo;
+                    res.t_hi = hi;
+                    res.t = 0.5 * lo + 0.5 * hi;
+                    ++decided;
+                };
+                if (solid_ && pr == Proof::Inside) {
+                    hit(std::max(p, s.tmin), std::max(p, s.tmin));
+                } else if (solid_ && next && proof(tile_values_[k + 1]) == Proof::Inside) {
+                    hit(std::max(p, s.tmin), q);
+                } else if (!solid_ && next && k > 0 && s.tmin <= p && tile_values_[k].defined &&
+                           strict(tile_values_[k - 1]) * strict(tile_values_[k + 1]) == -1) {
+                    hit(p, q);  // g(p) and g(q) of strict opposite signs, g continuous between
+                }
+                s.tmin = std::max(s.tmin, p);  // free before its first piece not proven free
+                break;
+            }
+            if (k == tiles || !(tile_t_[k] < s.tmax)) {
+                s.tmin = s.tmax;  // every piece it meets proven free: Miss on [a, b]
+            }
+        }
+        const std::size_t begin = pieces_.size();
+        if (res.status == Status::Miss && s.tmin < s.tmax) {
+            const double w = piece_width(s);
+            const int n = pieces_of(s, w);
+            if (tiles > 0) saved -= n;
+            for (int k = 0; k < n; ++k) {
+                const auto [lo, hi] = piece(s, w, k, n);
+                if (lo < hi) pieces_.push_back({g.i, g.j, lo, hi});
+            }
+        }
+        level.scanned.push_back({g.i, g.j, s, res, begin, pieces_.size()});
+    }
+    stats.tile_decided += decided;
+    tile_wins_ += tiles > 0 && saved >= 4 * tiles;
     // Every piece's enclosure, in one batched evaluation.
     const std::size_t n = pieces_.size();
     if (lanes_.size() < n) lanes_.resize(n);
@@ -1216,6 +1324,8 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.splits += s.splits;
         total.prunes += s.prunes;
         total.lane_forms += s.lane_forms;
+        total.tile_pieces += s.tile_pieces;
+        total.tile_decided += s.tile_decided;
     }
     for (std::size_t k = 0; k < pixels; ++k) {
         st.hit += ans.status[k] == Status::Hit;

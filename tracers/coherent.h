@@ -115,6 +115,12 @@ struct CoherentOptions {
     /// list has only ops with such a rule (no abs, min, max, …). Off: the form is tried on one
     /// ray's first undecided piece at a time, as a scan of one ray does.
     bool lane_mean_value = true;
+    /// Scans of several rays first evaluate the node's segment in pieces of the narrowest ray's
+    /// width as boxes over all its rays (one lane each): a piece proven free there is free on
+    /// every ray, and a ray whose first piece not proven free is followed by one proven inside
+    /// (solid), or lies between pieces of strict opposite signs (zero set), is answered without
+    /// pieces of its own. Off: each ray's own pieces only.
+    bool tile_pieces = true;
 };
 
 /// What the coherent walk did, summed over the image.
@@ -131,7 +137,9 @@ struct CoherentStats {
     std::uint64_t prunes = 0;     ///< boxes whose tape was shortened
     /// scanned pieces that the mean value form in lanes proved (CoherentOptions::lane_mean_value)
     std::uint64_t lane_forms = 0;
-    std::uint64_t tape_length = 0;  ///< instructions of the full tape
+    std::uint64_t tile_pieces = 0;   ///< tile pieces evaluated (CoherentOptions::tile_pieces)
+    std::uint64_t tile_decided = 0;  ///< rays answered by tile pieces
+    std::uint64_t tape_length = 0;   ///< instructions of the full tape
 };
 
 /// The rays of an image, pixel by pixel: what render_3d_coherent answers, and what a per-ray

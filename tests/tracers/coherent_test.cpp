@@ -254,6 +254,54 @@ TEST(Coherent, SolidHitsHoldTheEntryOfMathematics) {
     }
 }
 
+TEST(Coherent, TilePiecesAnswerFlatFacesWithTheRootOfMathematics) {
+    // A tilted plane seen as a heightmap over [−1, 1]³ (Fidget's columns and floors, tilted so
+    // that no bound is a round number): the ray at (x, y) meets z = 0.3 + 0.05x − 0.02y at
+    // t = 1 − z. Its tiles' pieces answer many rays at once (the piece after the one holding the
+    // plane is proven inside, or the pieces either side have strict opposite signs; where the
+    // plane crosses a piece's end inside a tile, its rays are scanned alone); every Hit
+    // holds t, zero set and solid, with and without them, at 32² and 128².
+    const expr::Tape tape(expr::parse_expr("z - 0.3 - 0.05*x + 0.02*y"));
+    for (Surface surface : {Surface::Solid, Surface::Zero}) {
+        for (bool tiles : {true, false}) {
+            for (unsigned side : {32u, 128u}) {
+                CoherentOptions o;
+                o.render.width = o.render.height = side;
+                o.render.bounds = {{{-1, 1}, {-1, 1}, {-1, 1}}};
+                o.render.threads = 1;
+                o.projection = Projection::Ortho;
+                o.surface = surface;
+                o.certified = image_solver_options();
+                o.depth_pixels = 0.5;
+                o.tile_pieces = tiles;
+                CoherentStats stats;
+                std::vector<RayResult> results;
+                const RenderResult r = render_3d_coherent(tape, o, &stats, &results);
+                const PixelRays rays(o);
+                const std::string where =
+                    std::string(surface == Surface::Solid ? "solid" : "zero") +
+                    (tiles ? " tiles " : " no tiles ") + std::to_string(side);
+                ASSERT_EQ(r.stats.hit, std::size_t{side} * side) << where;
+                for (std::size_t k = 0; k < results.size(); ++k) {
+                    Ray ray;
+                    ASSERT_TRUE(rays.ray(static_cast<unsigned>(k % side),
+                                         static_cast<unsigned>(k / side), ray));
+                    const double t = 1 - (0.3 + 0.05 * ray.o[0] - 0.02 * ray.o[1]);
+                    EXPECT_LE(results[k].t_lo, t + 1e-12) << where << " " << k;
+                    EXPECT_GE(results[k].t_hi, t - 1e-12) << where << " " << k;
+                    EXPECT_LE(results[k].t_hi - results[k].t_lo, 0.5 * 2.0 / side + 1e-12)
+                        << where << " " << k;
+                }
+                if (tiles) {
+                    EXPECT_GT(stats.tile_decided, std::size_t{side} * side / 4) << where;
+                } else {
+                    EXPECT_EQ(stats.tile_pieces, 0u) << where;
+                }
+            }
+        }
+    }
+}
+
 TEST(Coherent, HitsAreHalfAPixelDeepAndHoldTheRootOfMathematics) {
     // The unit sphere: a ray o + t·d meets it first at t = (−b − √(b² − 4ac)) / 2a with a = d·d,
     // b = 2 o·d, c = o·o − 1. An image's hit enclosure holds that root and is at most half a pixel
@@ -329,17 +377,21 @@ TEST(Coherent, ImageScansInLanesAgreeWithThePerRaySolver) {
         const expr::Tape tape(expr::load_graph_file(path.string()));
         if (!tape.uses_var(2)) continue;
         for (Surface surface : {Surface::Zero, Surface::Solid}) {
-            for (bool lanes : {true, false}) {
+            for (int variant : {0, 1, 2}) {
+                const bool lanes = variant != 2;
                 CoherentOptions o = small_view(Projection::Pinhole);
                 o.certified = image_solver_options();
                 o.depth_pixels = 0.5;
                 o.surface = surface;
                 o.lane_mean_value = lanes;
+                o.tile_pieces = variant == 0;
                 CoherentStats stats;
                 const Agreement a = against_per_ray(tape, o, false, 1, nullptr, &stats);
                 const std::string where = path.filename().string() +
                                           (surface == Surface::Solid ? " solid" : " zero") +
-                                          (lanes ? " lane forms" : " one ray at a time");
+                                          (variant == 0 ? " tiles"
+                                           : lanes      ? " lane forms"
+                                                        : " one ray at a time");
                 EXPECT_EQ(a.wrong, 0u) << where << ": " << a.first_wrong;
                 EXPECT_EQ(a.undecided, 0u) << where;
                 EXPECT_EQ(a.same, a.rays) << where;
@@ -526,6 +578,7 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     o.depth_pixels = *rc::gen::element(0.5, 2.0, 8.0);
     o.together_rays = *rc::gen::element(1u, 8u);
     o.smooth_together_rays = *rc::gen::element(1u, 16u, 64u);
+    o.tile_pieces = *rc::gen::arbitrary<bool>();
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
     o.certified = image_solver_options();
     o.certified.budget = 2000;
@@ -533,6 +586,7 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     const Agreement a = against_per_ray(tape, o, false, 1, nullptr, &stats);
     RC_ASSERT(a.wrong == 0u);
     RC_TAG(stats.lane_forms > 0 ? "lane forms proved pieces" : "no lane form needed");
+    RC_TAG(stats.tile_decided > 0 ? "tile pieces answered rays" : "no ray answered by tiles");
 }
 
 RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
@@ -559,6 +613,7 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     o.together_rays = *rc::gen::element(0u, 1u, 4u, 16u, 64u);  // several rays' pieces at once
     o.smooth_together_rays = *rc::gen::element(0u, 16u, 64u);
     o.lane_mean_value = *rc::gen::arbitrary<bool>();
+    o.tile_pieces = *rc::gen::arbitrary<bool>();
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
     o.certified.budget = 2000;  // the image options otherwise
     const Agreement a = against_per_ray(tape, o);
