@@ -536,6 +536,15 @@ void Walker::tile(const Rect& r) {
     mv_tries_ = mv_proofs_ = mv_passed_ = 0;  // each tile decides afresh (the same in any thread)
     tile_tries_ = tile_wins_ = tile_passed_ = 0;
     px_.assign(std::size_t{r.w} * r.h, Px{});
+    for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {  // a miss until answered
+        const std::size_t row = std::size_t{j} * ans_.width;
+        for (std::size_t k = row + r.i0; k < row + r.i0 + r.w; ++k) {
+            ans_.status[k] = Status::Miss;
+            ans_.t[k] = std::numeric_limits<double>::quiet_NaN();
+            ans_.evals[k] = 0;
+            ans_.normal[k] = {0.f, 0.f, 0.f};
+        }
+    }
     double a = kInf, b = -kInf;
     {
         NearestScope env;  // one switch for the tile's rays
@@ -1262,10 +1271,12 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
     ans.width = options.render.width;
     ans.height = options.render.height;
     const std::size_t pixels = std::size_t{ans.width} * ans.height;
-    ans.status.assign(pixels, Status::Miss);
-    ans.t.assign(pixels, std::numeric_limits<double>::quiet_NaN());
-    ans.evals.assign(pixels, 0);
-    ans.normal.assign(pixels, {0.f, 0.f, 0.f});
+    // Unwritten here: each root tile's worker writes its pixels' defaults (Walker::tile), so the
+    // pages are first touched in the workers (a 512² image's 7.6 MB: 2.5 ms on one thread).
+    ans.status.resize(pixels, boost::container::default_init);
+    ans.t.resize(pixels, boost::container::default_init);
+    ans.evals.resize(pixels, boost::container::default_init);
+    ans.normal.resize(pixels, boost::container::default_init);
     if (results != nullptr) {
         RayResult miss;
         miss.status = Status::Miss;

@@ -23,7 +23,7 @@ constexpr unsigned kTile = 16;
 std::uint8_t to_byte(double v) {
     if (!(v > 0)) return 0;
     if (v >= 1) return 255;
-    return static_cast<std::uint8_t>(std::lround(v * 255.0));
+    return static_cast<std::uint8_t>(v * 255.0 + 0.5);  // rounded half up, without a libm call
 }
 
 void put(RgbImage& img, unsigned i, unsigned j, double r, double g, double b) {
@@ -101,8 +101,9 @@ RgbImage colorize(const PixelAnswers& ans, Aov aov, const Vec3& light, unsigned 
     const Vec3 l = normalize(light);
     double tmin = std::numeric_limits<double>::infinity(), tmax = -tmin;
     std::uint64_t emax = 0;
-    for (std::size_t k = 0; k < ans.status.size(); ++k) {
-        if (ans.status[k] == Status::Hit) {
+    for (std::size_t k = 0; k < ans.status.size() && (aov == Aov::Depth || aov == Aov::Steps);
+         ++k) {
+        if (ans.status[k] == Status::Hit) {  // the ranges the depth and steps ramps need
             tmin = std::min(tmin, ans.t[k]);
             tmax = std::max(tmax, ans.t[k]);
         }

@@ -12,6 +12,7 @@
 // Reference: pbrt-v4's film/tile loop; docs/theory/rendering.md.
 #pragma once
 
+#include <boost/container/vector.hpp>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -61,13 +62,18 @@ struct RenderStats {
     double seconds = 0;
 };
 
+/// A pixel buffer: a vector that resize(n, boost::container::default_init) leaves unwritten, so
+/// that a threaded renderer's workers write (and first touch) their own tiles.
+template <class T>
+using PixelBuffer = boost::container::vector<T>;
+
 /// The answers of every pixel (row-major, top row first), before colouring.
 struct PixelAnswers {
     unsigned width = 0, height = 0;
-    std::vector<Status> status;
-    std::vector<double> t;                     ///< hit (or unknown) parameter; NaN for a miss
-    std::vector<std::uint64_t> evals;          ///< evals.total() per pixel
-    std::vector<std::array<float, 3>> normal;  ///< unit normal at a hit (facing the camera)
+    PixelBuffer<Status> status;
+    PixelBuffer<double> t;                     ///< hit (or unknown) parameter; NaN for a miss
+    PixelBuffer<std::uint64_t> evals;          ///< evals.total() per pixel
+    PixelBuffer<std::array<float, 3>> normal;  ///< unit normal at a hit (facing the camera)
 };
 
 /// The image and its totals.
