@@ -405,6 +405,31 @@ class NearestScope {
 #endif
 };
 
+/// Round-to-nearest for a stretch of code inside a live RoundingScope (upward mode): what
+/// NearestScope does, with the two states known (every scope's x87 word is canonical, as nearest2
+/// assumes): two constant MXCSR writes and no reads of the control words, which cost more than the
+/// writes where a loop opens one per item (a coherent image's normals).
+class NearestInUpward {
+  public:
+#ifdef CERTRAY_X86_64_ROUNDING
+    NearestInUpward() {
+        assert((detail::X86RoundingControl::current().mxcsr & ~0x3fu) == kUpward);  // flags aside
+        asm volatile("ldmxcsr %0" : : "m"(kNearest) : "memory");
+    }
+    ~NearestInUpward() { asm volatile("ldmxcsr %0" : : "m"(kUpward) : "memory"); }
+#endif
+    NearestInUpward(const NearestInUpward&) = delete;
+    NearestInUpward& operator=(const NearestInUpward&) = delete;
+
+  private:
+#ifdef CERTRAY_X86_64_ROUNDING
+    static constexpr unsigned kNearest = detail::X86RoundingControl::canonical(0).mxcsr;
+    static constexpr unsigned kUpward = detail::X86RoundingControl::canonical(2).mxcsr;
+#else
+    NearestScope scope_;
+#endif
+};
+
 /// Every operation saves, sets and restores the rounding mode: safe anywhere.
 struct ProtectedRounding {
     using Policies = boost::numeric::interval_lib::policies<

@@ -13,16 +13,8 @@
 
 namespace certray::tracers {
 
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
 Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-
-Vec3 normalize(const Vec3& v) {
-    const double n = std::sqrt(dot(v, v));
-    if (!(n > 0) || !std::isfinite(n)) return {0, 0, 0};
-    return {v[0] / n, v[1] / n, v[2] / n};
 }
 
 CameraFrame::CameraFrame(const Camera& camera, unsigned width, unsigned height) {

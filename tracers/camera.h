@@ -11,6 +11,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -77,8 +78,13 @@ Camera frame_boxes(const std::vector<Box3>& boxes, const Box3& hull, double fov_
 Camera frame_box(const Box3& box, double fov_degrees, double aspect, Vec3 from = {1, -2, 0.8});
 
 /// Small vector helpers.
-Vec3 normalize(const Vec3& v);
-double dot(const Vec3& a, const Vec3& b);
+// Inline: a coherent image calls them per hit pixel (6% of Fidget's colonnade heightmap as calls).
+inline double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline Vec3 normalize(const Vec3& v) {
+    const double n = std::sqrt(dot(v, v));
+    if (!(n > 0) || !std::isfinite(n)) return {0, 0, 0};
+    return {v[0] / n, v[1] / n, v[2] / n};
+}
 Vec3 cross(const Vec3& a, const Vec3& b);
 
 }  // namespace certray::tracers

@@ -1168,7 +1168,7 @@ void Walker::answer(unsigned i, unsigned j, Px& p, const RayResult& res, const S
         out.evals += before;
     }
     if (res.status != Status::Hit) return;
-    NearestScope env;  // as render_3d computes the normal
+    NearestInUpward env;  // as render_3d computes the normal (the walk holds its upward scope)
     const Vec3 q{ray.o[0] + res.t * ray.d[0], ray.o[1] + res.t * ray.d[1],
                  ray.o[2] + res.t * ray.d[2]};
     Dual<double, 3> g;
