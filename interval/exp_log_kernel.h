@@ -275,6 +275,20 @@ inline void log_kernel_bounds(double a, double b, double* out) {
     out[0] = -_mm_cvtsd_f64(r);
     out[1] = _mm_cvtsd_f64(_mm_unpackhi_pd(r, r));
 }
+
+/// [lo, hi] in place for exp or log (lo ≤ hi, not NaN; upward mode held): `kernel`'s bounds
+/// (exp_kernel_bounds, log_kernel_bounds) on the bounds where `applies`, `libm`'s (interval.h's
+/// exp_bounds, log_bounds) on the others.
+template <class Applies, class Kernel, class Libm>
+void kernel_or_libm(double& lo, double& hi, Applies applies, Kernel kernel, Libm libm) {
+    const bool kernel_lo = applies(lo), kernel_hi = applies(hi);
+    if (!kernel_lo && !kernel_hi) return libm(lo, hi);
+    double b[2];
+    kernel(kernel_lo ? lo : hi, kernel_hi ? hi : lo, b);  // an operand the kernel takes
+    if (!kernel_lo || !kernel_hi) libm(lo, hi);
+    if (kernel_lo) lo = b[0];
+    if (kernel_hi) hi = b[1];
+}
 #endif
 
 }  // namespace certray::detail

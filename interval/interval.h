@@ -877,19 +877,11 @@ BasicInterval<M> exp(const BasicInterval<M>& x) {
     typename M::Policies::rounding rnd;
     double lo = x.lower(), hi = x.upper();
 #ifdef CERTRAY_X86_64_ROUNDING
-    // Bounds from interval/exp_log_kernel.h where it applies (no libm, no mode switch), libm's
-    // otherwise.
-    const bool kernel_lo = detail::exp_kernel_applies(lo),
-               kernel_hi = detail::exp_kernel_applies(hi);
-    if (kernel_lo || kernel_hi) {
-        double b[2];
-        detail::exp_kernel_bounds(kernel_lo ? lo : 1.0, kernel_hi ? hi : 1.0, b);
-        if (!kernel_lo || !kernel_hi) rnd.exp_bounds(lo, hi);
-        return {typename BasicInterval<M>::Boost(kernel_lo ? b[0] : lo, kernel_hi ? b[1] : hi),
-                x.defined};
-    }
-#endif
+    detail::kernel_or_libm(lo, hi, detail::exp_kernel_applies, detail::exp_kernel_bounds,
+                           [&](double& l, double& h) { rnd.exp_bounds(l, h); });
+#else
     rnd.exp_bounds(lo, hi);  // both bounds under one mode switch
+#endif
     return {typename BasicInterval<M>::Boost(lo, hi), x.defined};
 }
 /// log on [a, b] ∩ (0, ∞): [log_down(a) or −∞ if a ≤ 0, log_up(b)]; empty if b ≤ 0;
@@ -902,18 +894,11 @@ BasicInterval<M> log(const BasicInterval<M>& x) {
     typename M::Policies::rounding rnd;
     double lo = x.lower(), hi = x.upper();
 #ifdef CERTRAY_X86_64_ROUNDING
-    // As exp: the kernel's bounds where it applies, libm's otherwise.
-    const bool kernel_lo = detail::log_kernel_applies(lo);
-    const bool kernel_hi = detail::log_kernel_applies(hi);
-    if (kernel_lo || kernel_hi) {
-        double b[2];
-        detail::log_kernel_bounds(kernel_lo ? lo : 2.0, kernel_hi ? hi : 2.0, b);
-        if (!kernel_lo || !kernel_hi) rnd.log_bounds(lo, hi);
-        return {typename BasicInterval<M>::Boost(kernel_lo ? b[0] : lo, kernel_hi ? b[1] : hi),
-                x.defined};
-    }
-#endif
+    detail::kernel_or_libm(lo, hi, detail::log_kernel_applies, detail::log_kernel_bounds,
+                           [&](double& l, double& h) { rnd.log_bounds(l, h); });
+#else
     rnd.log_bounds(lo, hi);  // both bounds under one mode switch
+#endif
     return {typename BasicInterval<M>::Boost(lo, hi), x.defined};
 }
 /// cos: the endpoint values, and ±1 where an extremum kπ may lie inside (WidenedTransc::
