@@ -319,6 +319,8 @@ class Walker {
         return std::max(certified_.hit_width_absolute,
                         certified_.hit_width * std::max(0.0, s.tmin));
     }
+    /// A list this long scans CoherentOptions::long_together_rays together.
+    static constexpr std::size_t kLongList = 200;
     /// At most this many pieces a leaf segment is scanned in; longer ones go to the solver.
     static constexpr int kMaxPieces = 8;
     /// scan_together()'s lanes: the boxes, their enclosures, and per lane the ray's pixel and
@@ -669,8 +671,11 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     }
 
     // Lists with a tangent list get their scans' forms in lanes: wider scans pay there.
-    const bool together = count <= options_.together_rays ||
-                          (count <= options_.smooth_together_rays && options_.lane_mean_value &&
+    // Long lists too: a walk's cost per instruction is then spread over more lanes.
+    const unsigned plain =
+        sub->size() >= kLongList ? options_.long_together_rays : options_.together_rays;
+    const bool together =
+        count <= plain || (count <= options_.smooth_together_rays && options_.lane_mean_value &&
                            tangent(*sub, depth) != nullptr);
     if (together && scan_together(r, a, b, *sub, sub_tape, level, depth, hull)) {
         return;

@@ -110,6 +110,11 @@ struct CoherentOptions {
     /// measured best of 4–32 on Barth's sextic, the tanglecube and Chmutov's sextic (–10 to
     /// –21% against 8; docs/benchmarks.md, session 10).
     unsigned smooth_together_rays = 16;
+    /// together_rays where the node's list has at least 200 instructions: one walk of a long list
+    /// costs more per call, so more rays share it. 16 measured −14% on Fidget's bear (lists of
+    /// about 400 instructions) and −10% on the molecule against 8, the colonnade's short lists
+    /// untouched (docs/benchmarks.md, session 11).
+    unsigned long_together_rays = 16;
     /// In those lanes, pieces that their enclosure leaves undecided get the mean value form in t
     /// at once, from a derivative computed in the same batched walk (expr/tangent.h), where the
     /// list has only ops with such a rule (no abs, min, max, …). Off: the form is tried on one
