@@ -417,6 +417,8 @@ class NearestInUpward {
         asm volatile("ldmxcsr %0" : : "m"(kNearest) : "memory");
     }
     ~NearestInUpward() { asm volatile("ldmxcsr %0" : : "m"(kUpward) : "memory"); }
+#else
+    NearestInUpward() = default;
 #endif
     NearestInUpward(const NearestInUpward&) = delete;
     NearestInUpward& operator=(const NearestInUpward&) = delete;
