@@ -15,6 +15,7 @@
 //   instruction wrote its register.
 // - Exp, Log (x86): interval/exp_log_kernel.h's bounds on kWidth lanes at once, as the scalar exp()
 //   and log() take them; lanes with a bound where the kernel does not apply call the scalar one.
+//   Sin, Cos (x86): interval/trig_kernel.h's bounds likewise.
 // - Exp, Log elsewhere: the scalar exp() and log() with their nearest2 batched: one write of
 //   MXCSR to round-to-nearest for all lanes of the instruction, libm lane by lane, one write back
 //   to upward, then the same widening (exp_below/exp_above, log_below/log_above); the lanes log
@@ -473,6 +474,27 @@ template <class V>
                      [](const UpInterval& x) { return log(x); });
 }
 
+/// sin (sine) or cos of lanes 0 … n − 1, as interval.h's sin() and cos() compute them: the bounds
+/// of interval/trig_kernel.h, V::kWidth lanes at a time, where both bounds of a lane take it
+/// (|x| ≤ 2¹⁹, lo ≤ hi); sin() or cos() itself for the others, as exp_lanes.
+template <class V>
+[[gnu::always_inline]] inline void trig_lanes(bool sine, const Lanes& a, Lanes& o, int n) {
+    using R = typename V::R;
+    alignas(64) double lo[kIntervalLanes], hi[kIntervalLanes];
+    for (int k = 0; k < n; k += V::kWidth) {
+        R l, h;
+        certray::detail::trig_interval<V>(V::load(a.lo + k), V::load(a.hi + k), sine, l, h,
+                                          [&](R x1, R s1, R x2, R s2, R& r1, R& r2) {
+                                              r1 = certray::detail::trig_point<V>(x1, s1, !sine);
+                                              r2 = certray::detail::trig_point<V>(x2, s2, !sine);
+                                          });
+        V::store(lo + k, l);
+        V::store(hi + k, h);
+    }
+    kernel_or_scalar(a, o, n, lo, hi, certray::detail::trig_kernel_applies,
+                     [sine](const UpInterval& x) { return sine ? sin(x) : cos(x); });
+}
+
 /// The walk over vectors of V.
 template <class V>
 inline void walk(const Instr* in, const Instr* const end, const Lanes* p, Lanes* r, int n) {
@@ -511,7 +533,11 @@ inline void walk(const Instr* in, const Instr* const end, const Lanes* p, Lanes*
                 log_lanes<V>(r[in->a], r[in->out], n);
                 break;
             case Op::Sin:
+                trig_lanes<V>(true, r[in->a], r[in->out], n);
+                break;
             case Op::Cos:
+                trig_lanes<V>(false, r[in->a], r[in->out], n);
+                break;
             case Op::Pow:
             case Op::Floor:
             case Op::Ceil:

@@ -7,14 +7,16 @@
 // b) = (a > b) ? a : b, min(a, b) = (a < b) ? a : b, NaN and equal operands giving b, exactly
 // interval.h's max2/min2 and the MAXPD of its two-lane product kernel — and M (a mask of kWidth
 // lanes), ordered comparisons (false for NaN), and/or of masks, select, the mask as kWidth bits,
-// and prev (the double whose bits are one less); and what interval/exp_log_kernel.h's kernels
-// need: pow2 (2^kd for integral kd in [−1022, 1021], exactly), sign_of, flip and log_split, each
-// the same bits as KernelSse2's on its lanes. The AVX types' functions carry target
-// attributes: they inline only into functions compiled for that target (no -march anywhere).
+// and prev (the double whose bits are one less); and what interval/exp_log_kernel.h's and
+// interval/trig_kernel.h's kernels need: pow2 (2^kd for integral kd in [−1022, 1021], exactly),
+// sign_of, flip and log_split, each the same bits as KernelSse2's on its lanes. The AVX types'
+// functions carry target attributes: they inline only into functions compiled for that target (no
+// -march anywhere).
 #pragma once
 
 #include "expr/batch_simd.h"
 #include "interval/exp_log_kernel.h"
+#include "interval/trig_kernel.h"
 
 namespace certray::expr::detail {
 // Internal linkage, as if written in eval_interval_batch.cpp, the one file that includes this

@@ -216,7 +216,8 @@ template <class V>
 
 #if defined(__GNUC__) && defined(__x86_64__)
 /// Two lanes of SSE2 (the baseline of x86-64): the scalar interval exp and log, the lower bound
-/// in lane 0 and the upper bound in lane 1.
+/// in lane 0 and the upper bound in lane 1 (and interval/trig_kernel.h's sin and cos, a point in
+/// each lane).
 struct KernelSse2 {
     using R = __m128d;
     static R set1(double c) { return _mm_set1_pd(c); }
@@ -225,6 +226,13 @@ struct KernelSse2 {
     static R mul(R a, R b) { return _mm_mul_pd(a, b); }
     static R div(R a, R b) { return _mm_div_pd(a, b); }
     static R max(R a, R b) { return _mm_max_pd(a, b); }
+    static R min(R a, R b) { return _mm_min_pd(a, b); }
+    using M = __m128d;  ///< a mask: all bits set in the lanes where a comparison holds
+    static M le(R a, R b) { return _mm_cmple_pd(a, b); }
+    static M lt(R a, R b) { return _mm_cmplt_pd(a, b); }
+    static M eq(R a, R b) { return _mm_cmpeq_pd(a, b); }
+    static M either(M a, M b) { return _mm_or_pd(a, b); }
+    static R select(M m, R t, R f) { return _mm_or_pd(_mm_and_pd(m, t), _mm_andnot_pd(m, f)); }
     static R sign_of(R a) { return _mm_and_pd(a, set1(-0.0)); }
     static R flip(R a, R m) { return _mm_xor_pd(a, m); }
     static void log_split(R x, R& e, R& m) {

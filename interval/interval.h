@@ -20,7 +20,8 @@
 // infinities, NaN and empty operands to Boost's case tables: the same bounds, bit for bit, up to
 // the sign of a zero bound); ÷ and pow are Boost's. exp and log on x86-64 (exp where |x| ≤ 708,
 // x ≠ 0; log at normal x ≠ 1): the bounds of interval/exp_log_kernel.h (polynomials in upward
-// mode, no libm). Otherwise exp, log, sin, cos: glibc ignores the rounding
+// mode, no libm); sin and cos on x86-64 over boxes within ±2¹⁹: interval/trig_kernel.h's.
+// Otherwise exp, log, sin, cos: glibc ignores the rounding
 // mode, so the round-to-nearest result is widened outward by kTranscUlps ulps (glibc documents
 // ≤ 1 ulp for these on x86_64), with exact values at the points where the function value is
 // exactly representable; both bounds of an interval are computed under one switch to
@@ -42,6 +43,7 @@
 #endif
 
 #include "interval/exp_log_kernel.h"
+#include "interval/trig_kernel.h"
 
 namespace certray {
 
@@ -53,7 +55,7 @@ namespace bil = boost::numeric::interval_lib;
 inline constexpr int kTranscUlps = 2;
 
 /// RD(π), RU(π), RD(π/2), RU(π/2).
-inline constexpr double kPiLo = 0x1.921fb54442d18p+1, kPiHi = 0x1.921fb54442d19p+1;
+inline constexpr double kPiLo = TrigKernel::kPiLo, kPiHi = TrigKernel::kPiHi;
 inline constexpr double kHalfPiLo = 0x1.921fb54442d18p+0, kHalfPiHi = 0x1.921fb54442d19p+0;
 
 /// The next double above v (std::nextafter(v, +inf) without the library call, whatever the
@@ -913,6 +915,12 @@ BasicInterval<M> cos(const BasicInterval<M>& x) {
         return {BasicInterval<M>(-1.0, 1.0).iv, x.defined};
     typename M::Policies::rounding rnd;
     double lo = x.lower(), hi = x.upper();
+#ifdef CERTRAY_X86_64_ROUNDING
+    if (detail::trig_kernel_applies(lo) && detail::trig_kernel_applies(hi)) {
+        detail::trig_kernel_bounds(false, lo, hi);
+        return {typename BasicInterval<M>::Boost(lo, hi), x.defined};
+    }
+#endif
     rnd.trig_bounds(false, lo, hi);  // both bounds under one mode switch
     return {typename BasicInterval<M>::Boost(lo, hi), x.defined};
 }
@@ -925,6 +933,12 @@ BasicInterval<M> sin(const BasicInterval<M>& x) {
         return {BasicInterval<M>(-1.0, 1.0).iv, x.defined};
     typename M::Policies::rounding rnd;
     double lo = x.lower(), hi = x.upper();
+#ifdef CERTRAY_X86_64_ROUNDING
+    if (detail::trig_kernel_applies(lo) && detail::trig_kernel_applies(hi)) {
+        detail::trig_kernel_bounds(true, lo, hi);
+        return {typename BasicInterval<M>::Boost(lo, hi), x.defined};
+    }
+#endif
     rnd.trig_bounds(true, lo, hi);  // both bounds under one mode switch
     return {typename BasicInterval<M>::Boost(lo, hi), x.defined};
 }

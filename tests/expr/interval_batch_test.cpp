@@ -295,6 +295,38 @@ RC_GTEST_PROP(IntervalBatchProperty, SsaListsMatchTheScalarWalk, ()) {
     RC_ASSERT(m == "");
 }
 
+/// sin and cos (interval/trig_kernel.h on the lanes, the scalar sin() and cos() on one box) over
+/// boxes of every width up to past a period, near the extrema kπ/2, and across the kernel's edge
+/// |x| = 2¹⁹: each lane's side of each end is chosen per lane.
+RC_GTEST_PROP(IntervalBatchProperty, SinAndCosMatchTheScalarWalk, ()) {
+    const int n = *rc::gen::inRange(1, kIntervalLanes + 1);
+    Boxes boxes(n);
+    for (auto& box : boxes) {
+        const int kind = *rc::gen::inRange(0, 4);
+        double lo = 0, width = 0;
+        if (kind == 0) {
+            lo = *rc::gen::inRange(-20000, 20001) * 1e-3;
+            width = *rc::gen::inRange(0, 7000) * 1e-3;
+        } else if (kind == 1) {  // an extremum near an end
+            lo = *rc::gen::inRange(-100, 101) * 1.5707963267948966 +
+                 *rc::gen::inRange(-8, 9) * std::ldexp(1.0, *rc::gen::inRange(-52, -10));
+            width = std::ldexp(1.0, *rc::gen::inRange(-50, 2));
+        } else if (kind == 2) {  // the kernel's edge
+            lo = (*rc::gen::arbitrary<bool>() ? 1 : -1) * 0x1p19 + *rc::gen::inRange(-4, 2);
+            width = *rc::gen::inRange(0, 4);
+        } else {
+            box[0] = *gen_box();
+        }
+        if (kind != 3) box[0] = UpInterval(lo, lo + width);
+        box[1] = box[2] = box[0];
+    }
+    for (const Op op : {Op::Sin, Op::Cos}) {
+        const std::vector<Instr> list = {{Op::VarX, 0, 0, 0, 0.0}, {op, 1, 0, 0, 0.0}};
+        const std::string m = mismatch(list, boxes);
+        RC_ASSERT(m == "");
+    }
+}
+
 /// Lists written by prune_ssa (slots numbered from the output backwards), pruned to a box.
 RC_GTEST_PROP(IntervalBatchProperty, PrunedSsaListsMatchTheScalarWalk, ()) {
     const Tape t(*gen_any_dag(40));
