@@ -27,6 +27,9 @@ class Writer {
     std::uint32_t next_;
 };
 
+/// Whether op has a kink (its rule in tangent_list encloses Clarke's derivative).
+bool kink(Op op) { return op == Op::Min || op == Op::Max || op == Op::Abs; }
+
 /// Whether tangent_list has a rule for op.
 bool has_rule(Op op) {
     switch (op) {
@@ -47,6 +50,9 @@ bool has_rule(Op op) {
         case Op::Sin:
         case Op::Cos:
         case Op::Pow:
+        case Op::Min:
+        case Op::Max:
+        case Op::Abs:
             return true;
         default:
             return false;
@@ -54,6 +60,16 @@ bool has_rule(Op op) {
 }
 
 }  // namespace
+
+TangentKind tangent_kind(const std::vector<Instr>& list) {
+    if (list.empty()) return TangentKind::None;
+    bool kinked = false;
+    for (const Instr& in : list) {
+        if (!has_rule(in.op)) return TangentKind::None;
+        kinked = kinked || kink(in.op);
+    }
+    return kinked ? TangentKind::Kinked : TangentKind::Smooth;
+}
 
 std::optional<TangentList> tangent_list(const std::vector<Instr>& list) {
     // Most lists without a tangent list hold a min or max: found before anything is built.
@@ -64,10 +80,24 @@ std::optional<TangentList> tangent_list(const std::vector<Instr>& list) {
     std::uint32_t end = 0;
     for (const Instr& in : list) end = std::max(end, in.out + 1);
     TangentList t;
+    t.smooth = std::none_of(list.begin(), list.end(), [](const Instr& in) { return kink(in.op); });
     Writer w(end);
     for (std::uint32_t& s : t.seed) s = w.reserve();
     std::vector<std::uint32_t> d(end, kZero);  // per slot of the list: its derivative's slot
-    std::uint32_t two = kZero;
+    std::uint32_t two = kZero, one = kZero, zero = kZero, minus_one = kZero, big = kZero;
+    const auto constant = [&](std::uint32_t& slot, double c) {
+        if (slot == kZero) slot = w.constant(c);
+        return slot;
+    };
+    // clamp(v·2⁶⁰⁰·2⁶⁰⁰, lo, 1): 1 where v > 0 on the box (the least positive double times 2¹²⁰⁰
+    // exceeds 1; large ones overflow to +inf), lo where v < 0, 0 where v = 0 on the box, and an
+    // interval holding [lo, 1]'s part on either side of 0 where v's sign is not certain.
+    const auto gate = [&](std::uint32_t v, double lo) {
+        const std::uint32_t big_v = w.emit(Op::Mul, v, constant(big, 0x1p600));
+        const std::uint32_t s = w.emit(Op::Mul, big_v, big);
+        const std::uint32_t top = w.emit(Op::Min, constant(one, 1.0), s);
+        return w.emit(Op::Max, lo == 0 ? constant(zero, 0.0) : constant(minus_one, -1.0), top);
+    };
     for (const Instr& in : list) {
         w.out.push_back(in);
         const std::uint32_t da = arity(in.op) >= 1 ? d[in.a] : kZero;
@@ -159,7 +189,23 @@ std::optional<TangentList> tangent_list(const std::vector<Instr>& list) {
                     }
                 }
                 break;
-            default:  // kinks, jumps and the rest: no rule (has_rule)
+            case Op::Min:  // g·a′ + (1 − g)·b′, g = 1 where a < b, 0 where b < a, [0, 1] at a tie
+            case Op::Max:  // likewise with g = 1 where a > b
+                if (da != kZero || db != kZero) {
+                    const std::uint32_t g = gate(in.op == Op::Min ? w.emit(Op::Sub, in.b, in.a)
+                                                                  : w.emit(Op::Sub, in.a, in.b),
+                                                 0.0);
+                    const std::uint32_t ga = da != kZero ? w.emit(Op::Mul, g, da) : kZero;
+                    const std::uint32_t gb =
+                        db != kZero ? w.emit(Op::Mul, w.emit(Op::Sub, constant(one, 1.0), g), db)
+                                    : kZero;
+                    r = ga == kZero ? gb : gb == kZero ? ga : w.emit(Op::Add, ga, gb);
+                }
+                break;
+            case Op::Abs:  // sign(a)·a′, the sign [−1, 1] where a may be 0 (and 0 where a ≡ 0)
+                if (da != kZero) r = w.emit(Op::Mul, gate(in.a, -1.0), da);
+                break;
+            default:  // jumps and the rest: no rule (has_rule)
                 return std::nullopt;
         }
         d[in.out] = r;

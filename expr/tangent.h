@@ -5,13 +5,16 @@
 // source transformation: the chain rule of each op written as plain instructions). Run over a box
 // X with the seed slots holding u (any enclosures of it), its value slots are those of the list
 // and its `derivative` slot holds an enclosure of ∇f(x)·u for every x in X and u in the seeds —
-// wherever f is differentiable on X, which its value's decoration says: every op it accepts is
-// C¹ where it is defined (+ − × /, square, neg, recip, exp, log, sin, cos, integer powers, and √
-// where the operand is > 0; at √0 the derivative is unbounded, its bound infinite). So over a
-// segment {o + t·u : t ∈ T} on which f is proven defined and continuous with a finite derivative
-// enclosure G′, the mean value theorem gives g(T) ⊆ g(c) + G′·(T − c) for g(t) = f(o + t·u).
-// Ops with kinks or jumps (abs, min, max, floor, …) have no rule here: tangent_list returns
-// nothing for a list that holds one (the scalar Dual walk, with Clarke's hulls, serves those).
+// wherever f is differentiable on X, which its value's decoration says: the smooth ops are C¹
+// where they are defined (+ − × /, square, neg, recip, exp, log, sin, cos, integer powers, and √
+// where the operand is > 0; at √0 the derivative is unbounded, its bound infinite). min, max and
+// abs have kinks: their rule encloses Clarke's generalized derivative, one branch's where the
+// branch is certain on X and g·a′ + (1 − g)·b′ with g ∈ [0, 1] (sign·a′, sign ∈ [−1, 1] for abs)
+// where it is not, which holds the convex hull of the two. So over a segment {o + t·u : t ∈ T} on
+// which f is proven defined and continuous with a finite derivative enclosure G′, the mean value
+// theorem (Lebourg's, for the kinks: f is then Lipschitz on the segment) gives g(T) ⊆ g(c) +
+// G′·(T − c) for g(t) = f(o + t·u). Ops with jumps and the rest (floor, compare, atan2, …) have no
+// rule here: tangent_list returns nothing for a list that holds one.
 // The list runs in any interval walk of SSA lists (expr/eval.h's run<UpInterval>,
 // expr/eval_interval_batch.h's lanes) once the caller has written the seeds into their slots,
 // which no instruction writes. Reference: docs/theory/coherent.md ("Mean value forms in lanes").
@@ -31,10 +34,16 @@ struct TangentList {
     std::uint32_t derivative = 0;       ///< slot of ∇f·u
     std::uint32_t seed[3] = {0, 0, 0};  ///< slots of u_x, u_y, u_z: the caller writes them
     std::uint32_t slots = 0;            ///< one past the largest slot used
+    bool smooth = true;                 ///< the list holds no kink (min, max, abs)
 };
 
 /// The tangent list of an SSA list (slots in any order, each written once, the last instruction
 /// f), or nothing when the list holds an op without a rule here.
 std::optional<TangentList> tangent_list(const std::vector<Instr>& list);
+
+/// What tangent_list(list) gives, without making it: none, a list without kinks (smooth) or one
+/// with kinks.
+enum class TangentKind : std::uint8_t { None, Smooth, Kinked };
+TangentKind tangent_kind(const std::vector<Instr>& list);
 
 }  // namespace certray::expr

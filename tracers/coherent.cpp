@@ -105,6 +105,8 @@ struct Level {
     /// without a rule); unknown again when the list is rewritten.
     std::optional<expr::TangentList> tangent;
     bool tangent_known = false;
+    /// expr::tangent_kind(list), once asked for.
+    std::optional<expr::TangentKind> kind;
 };
 
 bool splittable(double a, double b) {
@@ -235,6 +237,10 @@ class Walker {
     /// The tangent list of `list` (expr/tangent.h), or null when it has none; kept with the
     /// level whose list it is (`depth` or above).
     const expr::TangentList* tangent(const Ssa& list, unsigned depth);
+    /// What tangent list `list` has (expr::tangent_kind), kept as tangent().
+    expr::TangentKind tangent_kind(const Ssa& list, unsigned depth);
+    /// The level whose list `list` is (`depth` or above), or null.
+    Level* owner_of(const Ssa& list, unsigned depth);
     /// Enclosures of f and of its derivative along each lane's direction dirs_[k] over the boxes
     /// boxes[0, n), by the tangent list `tl`, into lane_values_[0, n) and lane_slopes_[0, n).
     void eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxes, std::size_t n);
@@ -295,6 +301,10 @@ class Walker {
     /// This root tile's tile pieces (scan_together; a win: the rays were spared at least four
     /// times as many pieces of their own as the tile pieces cost): the first 4, then one in 16.
     PayingTrial<4, 16> tile_trial_;
+    /// This root tile's mean value forms in lanes on lists with kinks (scan_together; a win: they
+    /// proved at least half the pieces they were taken on): the first 4, then one in 16 (the
+    /// molecule's forms prove 16% of such pieces, the bear's 67%).
+    PayingTrial<4, 16> kink_forms_;
     /// Whether to try the mean value form on a box of `count` rays.
     bool try_mean_value(unsigned count) {
         if (count > mean_value_rays_) return false;
@@ -540,6 +550,7 @@ void Walker::tile(const Rect& r) {
     root_ = r;
     mean_values_.reset();  // each tile decides afresh (the same in any thread)
     tile_trial_.reset();
+    kink_forms_.reset();
     px_.assign(std::size_t{r.w} * r.h, Px{});
     for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {  // a miss until answered
         const std::size_t row = std::size_t{j} * ans_.width;
@@ -666,20 +677,24 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
 
     const Ssa* sub = &list;
     const expr::Tape* sub_tape = tape;
-    if (choices_) level.tangent_known = false;  // level.list may be rewritten
+    if (choices_) {  // level.list may be rewritten
+        level.tangent_known = false;
+        level.kind.reset();
+    }
     if (choices_ && expr::prune_ssa(list, level.values.data(), prune_ws_, level.list)) {
         sub = &level.list;
         sub_tape = nullptr;
         ++stats.prunes;
     }
 
-    // Lists with a tangent list get their scans' forms in lanes: wider scans pay there.
+    // Smooth lists (a tangent list without kinks) get their scans' forms in lanes and tight:
+    // wider scans pay there (kinked ones keep 8: their forms at ties are looser).
     // Long lists too: a walk's cost per instruction is then spread over more lanes.
     const unsigned plain =
         sub->size() >= kLongList ? options_.long_together_rays : options_.together_rays;
     const bool together =
         count <= plain || (count <= options_.smooth_together_rays && options_.lane_mean_value &&
-                           tangent(*sub, depth) != nullptr);
+                           tangent_kind(*sub, depth) == expr::TangentKind::Smooth);
     if (together && scan_together(r, a, b, *sub, sub_tape, level, depth, hull)) {
         return;
     }
@@ -824,16 +839,31 @@ const expr::TangentList* Walker::tangent(const Ssa& list, unsigned depth) {
     // The tape's own list, or a level's pruned list (rewritten only where that level prunes,
     // which marks its tangent list unknown); any other list gets none.
     if (&list == &tape_.ssa()) return tape_tangent_ ? &*tape_tangent_ : nullptr;
-    Level* owner = nullptr;
-    for (unsigned k = std::min<unsigned>(depth + 1, kMaxDepth); k-- > 0 && owner == nullptr;) {
-        if (&levels_[k].list == &list) owner = &levels_[k];
-    }
+    Level* owner = owner_of(list, depth);
     if (owner == nullptr) return nullptr;
     if (!owner->tangent_known) {
         owner->tangent = expr::tangent_list(list);
         owner->tangent_known = true;
     }
     return owner->tangent ? &*owner->tangent : nullptr;
+}
+
+Level* Walker::owner_of(const Ssa& list, unsigned depth) {
+    for (unsigned k = std::min<unsigned>(depth + 1, kMaxDepth); k-- > 0;) {
+        if (&levels_[k].list == &list) return &levels_[k];
+    }
+    return nullptr;
+}
+
+expr::TangentKind Walker::tangent_kind(const Ssa& list, unsigned depth) {
+    using K = expr::TangentKind;
+    if (&list == &tape_.ssa()) {
+        return !tape_tangent_ ? K::None : tape_tangent_->smooth ? K::Smooth : K::Kinked;
+    }
+    Level* owner = owner_of(list, depth);
+    if (owner == nullptr) return K::None;
+    if (!owner->kind) owner->kind = expr::tangent_kind(list);
+    return *owner->kind;
 }
 
 void Walker::eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxes, std::size_t n) {
@@ -1057,8 +1087,16 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
     // free is passed, the next one decided by its points or its form. It is what decides a
     // polynomial's pieces near its surface; without it, after_points() tries the form one ray and
     // one piece at a time.
+    // A list with kinks: its forms are looser at the kinks' ties, so they are tried while they
+    // pay in the root tile (otherwise the rays take after_points()'s scalar form, with hulls).
+    const expr::TangentKind kind =
+        open > 0 && options_.lane_mean_value ? tangent_kind(list, depth) : expr::TangentKind::None;
+    const bool kinked = kind == expr::TangentKind::Kinked;
     const expr::TangentList* tl =
-        open > 0 && options_.lane_mean_value ? tangent(list, depth) : nullptr;
+        kind == expr::TangentKind::Smooth || (kinked && kink_forms_.attempt())
+            ? tangent(list, depth)
+            : nullptr;
+    std::size_t forms_tried = 0, forms_proven = 0;
     if (tl != nullptr) {
         form_boxes_.clear();
         dirs_.clear();
@@ -1093,6 +1131,8 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
             const UpInterval t(pieces_[k].p, pieces_[k].q);
             const Proof pr = proof(m + g1 * (t - UpInterval(midpoint(t))));
             stats.lane_forms += pr != Proof::None;
+            ++forms_tried;
+            forms_proven += pr != Proof::None;
             return pr;
         };
         for (std::size_t ray = 0; ray < rays; ++ray) {
@@ -1121,6 +1161,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
                 if (z.res.status != Status::Unknown) break;
             }
         }
+        if (kinked) kink_forms_.wins += 2 * forms_proven >= forms_tried;
     } else {
         for (std::size_t ray = 0; ray < rays; ++ray) {
             Level::Scanned& z = level.scanned[ray];

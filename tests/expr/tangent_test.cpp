@@ -1,6 +1,7 @@
 // tests/expr/tangent_test.cpp — the tangent list (expr/tangent.h): derivatives along a direction
 // that calculus gives, enclosures of the MPFR derivative at random points of random boxes, the
-// same bits in the lanes as in the scalar walk, and no list for ops with kinks.
+// same bits in the lanes as in the scalar walk, Clarke's branches at the kinks (min, max, abs), the
+// mean value form along segments against MPFR, and no list for ops with jumps.
 #include "expr/tangent.h"
 
 #include <gtest/gtest.h>
@@ -111,23 +112,130 @@ TEST(Tangent, SquareRootAtZeroHasAnUnboundedDerivative) {
     EXPECT_FALSE(std::isfinite(s.derivative.lower()) && std::isfinite(s.derivative.upper()));
 }
 
-TEST(Tangent, OpsWithKinksHaveNoList) {
+TEST(Tangent, KinksTakeOneBranchWhereItIsCertainAndBothAtATie) {
     Graph g;
     auto [x, y, z] = vars(g);
-    EXPECT_FALSE(tangent_list(tape_of(abs(x) + y).ssa()).has_value());
-    EXPECT_FALSE(tangent_list(tape_of(min(x, y) * z).ssa()).has_value());
-    EXPECT_FALSE(tangent_list(tape_of(max(x, y) - z).ssa()).has_value());
-    EXPECT_TRUE(tangent_list(tape_of(x * y - z).ssa()).has_value());
+    // min(x, y)·z at z = 1 along u = (3, 5, 0): u_x where x < y, u_y where y < x.
+    const Tape m = tape_of(min(x, y) * z);
+    const std::optional<TangentList> tm = tangent_list(m.ssa());
+    ASSERT_TRUE(tm.has_value());
+    EXPECT_FALSE(tm->smooth);
+    EXPECT_EQ(tangent_kind(m.ssa()), TangentKind::Kinked);
+    const std::array<double, 3> u = {3, 5, 0};
+    Slope s = run_tangent(*tm, point(1, 2, 1), u);
+    EXPECT_EQ(s.derivative.lower(), 3.0);
+    EXPECT_EQ(s.derivative.upper(), 3.0);
+    s = run_tangent(*tm, point(2, 1, 1), u);
+    EXPECT_EQ(s.derivative.lower(), 5.0);
+    EXPECT_EQ(s.derivative.upper(), 5.0);
+    // A box where either may be the least (x ∈ [0, 2], y = 1): both slopes, 3 and 5, inside.
+    s = run_tangent(*tm, {UpInterval(0, 2), UpInterval(1), UpInterval(1)}, u);
+    EXPECT_LE(s.derivative.lower(), 3.0);
+    EXPECT_GE(s.derivative.upper(), 5.0);
+    // max(x, y) − z along (3, 5, 7): u_y − 7 where y > x, u_x − 7 where x > y.
+    const Tape mx = tape_of(max(x, y) - z);
+    const std::optional<TangentList> tx = tangent_list(mx.ssa());
+    ASSERT_TRUE(tx.has_value());
+    s = run_tangent(*tx, point(1, 2, 0), {3, 5, 7});
+    EXPECT_EQ(s.derivative.lower(), -2.0);
+    EXPECT_EQ(s.derivative.upper(), -2.0);
+    s = run_tangent(*tx, point(2, 1, 0), {3, 5, 7});
+    EXPECT_EQ(s.derivative.lower(), -4.0);
+    EXPECT_EQ(s.derivative.upper(), -4.0);
+    // A gap of one ulp still counts as certain, even between subnormals.
+    s = run_tangent(*tx, point(1, std::nextafter(1.0, 2.0), 0), {3, 5, 7});
+    EXPECT_EQ(s.derivative.lower(), -2.0);
+    EXPECT_EQ(s.derivative.upper(), -2.0);
+    s = run_tangent(*tx, point(0, 0x1p-1074, 0), {3, 5, 7});
+    EXPECT_EQ(s.derivative.lower(), -2.0);
+    EXPECT_EQ(s.derivative.upper(), -2.0);
+    // |x| + y along (3, 1, 0): −3 + 1 at x < 0, 3 + 1 at x > 0, ⊇ [−2, 4] over x ∈ [−1, 1]; 1
+    // where x ≡ 0 on the box (along the y axis |x| stays 0).
+    const Tape a = tape_of(abs(x) + y);
+    const std::optional<TangentList> ta = tangent_list(a.ssa());
+    ASSERT_TRUE(ta.has_value());
+    const std::array<double, 3> v = {3, 1, 0};
+    s = run_tangent(*ta, point(-2, 0, 0), v);
+    EXPECT_EQ(s.derivative.lower(), -2.0);
+    EXPECT_EQ(s.derivative.upper(), -2.0);
+    s = run_tangent(*ta, point(2, 0, 0), v);
+    EXPECT_EQ(s.derivative.lower(), 4.0);
+    EXPECT_EQ(s.derivative.upper(), 4.0);
+    s = run_tangent(*ta, point(0x1p-1074, 0, 0), v);
+    EXPECT_EQ(s.derivative.lower(), 4.0);
+    EXPECT_EQ(s.derivative.upper(), 4.0);
+    s = run_tangent(*ta, {UpInterval(-1, 1), UpInterval(0), UpInterval(0)}, v);
+    EXPECT_LE(s.derivative.lower(), -2.0);
+    EXPECT_GE(s.derivative.upper(), 4.0);
+    s = run_tangent(*ta, {UpInterval(0), UpInterval(-1, 1), UpInterval(0)}, {0, 1, 0});
+    EXPECT_EQ(s.derivative.lower(), 1.0);
+    EXPECT_EQ(s.derivative.upper(), 1.0);
+    // Smooth lists are marked so; ops with jumps have no list.
+    EXPECT_TRUE(tangent_list(tape_of(x * y - z).ssa())->smooth);
+    EXPECT_EQ(tangent_kind(tape_of(x * y - z).ssa()), TangentKind::Smooth);
+    EXPECT_FALSE(tangent_list(tape_of(floor(x) + y).ssa()).has_value());
+    EXPECT_EQ(tangent_kind(tape_of(floor(x) + y).ssa()), TangentKind::None);
     // A constant function: derivative 0.
     const std::optional<TangentList> c = tangent_list(tape_of(constant(g, 2.5) * 2.0).ssa());
     ASSERT_TRUE(c.has_value());
-    const Slope s = run_tangent(*c, point(1, 2, 3), {1, 1, 1});
+    s = run_tangent(*c, point(1, 2, 3), {1, 1, 1});
     EXPECT_EQ(s.derivative.lower(), 0.0);
     EXPECT_EQ(s.derivative.upper(), 0.0);
 }
 
+/// The mean value form the renderer takes (tracers/coherent.cpp): over the segment
+/// {o + t·u : t ∈ [t0, t1]}, g(t) ∈ g(tc) + G′·(t − tc) for g(t) = f(o + t·u), with G′ the tangent
+/// list's derivative over the segment's box, wherever f is defined and continuous there and G′
+/// is finite (Lebourg's theorem at the kinks). Dyadic o, u and t keep every point exact, so f is
+/// taken there by MPFR.
+RC_GTEST_PROP(TangentProperty, MeanValueFormHoldsAlongSegments, ()) {
+    const Tape t(*testing::gen_dag(16, /*smooth=*/*rc::gen::arbitrary<bool>()));
+    const std::optional<TangentList> tl = tangent_list(t.ssa());
+    RC_ASSERT(tl.has_value());
+    std::array<double, 3> o, u;
+    for (int c = 0; c < 3; ++c) {
+        o[c] = *rc::gen::inRange(-128, 129) / 64.0;
+        u[c] = *rc::gen::inRange(-64, 65) / 64.0;
+    }
+    const double t0 = *rc::gen::inRange(-64, 65) / 64.0;
+    const double t1 = t0 + *rc::gen::inRange(1, 65) / 64.0;
+    const double tc = 0.5 * (t0 + t1);
+    std::array<UpInterval, 3> box, centre;
+    {
+        RoundingScope up;
+        for (int c = 0; c < 3; ++c) {
+            box[c] = UpInterval(o[c]) + UpInterval(t0, t1) * UpInterval(u[c]);
+            centre[c] = UpInterval(o[c] + tc * u[c]);  // exact: dyadic with few bits
+        }
+    }
+    const Slope s = run_tangent(*tl, box, u);
+    const Slope c = run_tangent(*tl, centre, u);
+    if (!s.value.defined || !c.value.defined || !std::isfinite(s.derivative.lower()) ||
+        !std::isfinite(s.derivative.upper())) {
+        return;
+    }
+    RC_TAG(tl->smooth ? "smooth" : "kinks");
+    for (int k = 0; k <= 8; ++k) {
+        const double tk = t0 + (t1 - t0) * k / 8.0;  // exact
+        UpInterval form;
+        {
+            RoundingScope up;
+            form = c.value + s.derivative * (UpInterval(tk) - UpInterval(tc));
+        }
+        const MpfrInterval exact =
+            eval<MpfrInterval>(t, {MpfrInterval(o[0] + tk * u[0]), MpfrInterval(o[1] + tk * u[1]),
+                                   MpfrInterval(o[2] + tk * u[2])});
+        // Where f's value needs more than MPFR's 256 bits (1e300 + (x² − 1e300)), its enclosure
+        // is wide and says nothing.
+        const double size =
+            std::max(1.0, std::max(std::fabs(exact.lower()), std::fabs(exact.upper())));
+        if (!(exact.upper() - exact.lower() <= 0x1p-100 * size)) continue;
+        RC_ASSERT(testing::encloses(form.lower(), form.upper(), exact));
+    }
+}
+
 RC_GTEST_PROP(TangentProperty, EnclosesTheMpfrDerivativeAtPointsOfTheBox, ()) {
-    const Tape t(*testing::gen_dag(24, /*smooth=*/true));
+    const Tape t(*testing::gen_dag(24, /*smooth=*/*rc::gen::arbitrary<bool>()));
     const std::optional<TangentList> tl = tangent_list(t.ssa());
     RC_ASSERT(tl.has_value());
     std::array<UpInterval, 3> box;
@@ -147,7 +255,9 @@ RC_GTEST_PROP(TangentProperty, EnclosesTheMpfrDerivativeAtPointsOfTheBox, ()) {
     }
     RC_ASSERT(same_bits(plain[t.ssa().back().out], s.value));
     // Where f is defined and continuous on the box, ∇f(p)·u lies in the derivative's enclosure
-    // (where it exists: a square root at 0 has none).
+    // (where it exists: a square root at 0 has none; at a kink of p, where the MPFR Dual's rule
+    // gives the hull of both branches, the list's is asked only along segments: the next
+    // property).
     if (!s.value.defined) return;
     using M = Dual<MpfrInterval, 1>;
     const M exact = eval<M>(t, {M(MpfrInterval(p[0]), {MpfrInterval(u[0])}),
@@ -155,6 +265,12 @@ RC_GTEST_PROP(TangentProperty, EnclosesTheMpfrDerivativeAtPointsOfTheBox, ()) {
                                 M(MpfrInterval(p[2]), {MpfrInterval(u[2])})});
     if (exact.a.is_empty() || exact.v[0].is_empty()) return;
     if (!std::isfinite(exact.v[0].lower()) || !std::isfinite(exact.v[0].upper())) return;
+    const double width = exact.v[0].upper() - exact.v[0].lower();
+    const double size = std::max(std::fabs(exact.v[0].lower()), std::fabs(exact.v[0].upper()));
+    if (!tl->smooth && !(width <= 0x1p-100 * size)) return;  // p at a kink
+    // An empty enclosure (0.5/√0 where a square root is [0, 0], behind a max that picks the
+    // other branch at p) claims nothing: the renderer takes no form from it.
+    if (s.derivative.is_empty()) return;
     RC_TAG(std::isfinite(s.derivative.lower()) && std::isfinite(s.derivative.upper())
                ? "finite derivative"
                : "unbounded");
@@ -162,7 +278,7 @@ RC_GTEST_PROP(TangentProperty, EnclosesTheMpfrDerivativeAtPointsOfTheBox, ()) {
 }
 
 RC_GTEST_PROP(TangentProperty, LanesGiveTheScalarWalksBits, ()) {
-    const Tape t(*testing::gen_dag(16, /*smooth=*/true));
+    const Tape t(*testing::gen_dag(16, /*smooth=*/*rc::gen::arbitrary<bool>()));
     const std::optional<TangentList> tl = tangent_list(t.ssa());
     RC_ASSERT(tl.has_value());
     const int n = *rc::gen::inRange(1, kIntervalLanes + 1);
