@@ -404,33 +404,37 @@ template <class V>
     for (int w = 0; w * 64 < n; ++w) o.defined[w] = x.defined[w];
 }
 
-/// The output of exp_lanes and log_lanes: lo[k], hi[k] (the kernel's bounds) where both bounds of
-/// lane k of `a` take the kernel (`applies`) and lo ≤ hi, with a's decoration; the scalar
+/// The output of exp_lanes, log_lanes and trig_lanes: lo[k], hi[k] (the kernel's bounds) where
+/// both bounds of lane k of `a` take the kernel and lo ≤ hi, with a's decoration; the scalar
 /// function `f` on the operand as it was elsewhere (the output may be the operand's register).
-template <class Applies, class F>
-[[gnu::always_inline]] inline void kernel_or_scalar(const Lanes& a, Lanes& o, int n,
-                                                    const double* lo, const double* hi,
-                                                    Applies applies, F f) {
+/// `applies(x)` gives the bits of the lanes of the vector x where the kernel applies (the scalar
+/// *_kernel_applies, lane by lane). lo and hi are overwritten where f is taken.
+template <class V, class Applies, class F>
+[[gnu::always_inline]] inline void kernel_or_scalar(const Lanes& a, Lanes& o, int n, double* lo,
+                                                    double* hi, Applies applies, F f) {
+    constexpr int W = V::kWidth;
+    constexpr unsigned kAll = (1u << W) - 1;
     for (int w = 0; w * 64 < n; ++w) {
         const int begin = w * 64, end = std::min(n, begin + 64);
         const std::uint64_t def = a.defined[w];  // read before o is written
         std::uint64_t slow = 0;
-        for (int k = begin; k < end; ++k) {
-            const double l = a.lo[k], u = a.hi[k];
-            if (l <= u && applies(l) && applies(u)) {
-                o.lo[k] = lo[k];
-                o.hi[k] = hi[k];
-            } else {
-                slow |= std::uint64_t{1} << (k - begin);
-            }
+        for (int k = begin; k < end; k += W) {
+            const typename V::R l = V::load(a.lo + k), u = V::load(a.hi + k);
+            const unsigned live = end - k >= W ? kAll : (1u << (end - k)) - 1;
+            const unsigned ok = V::bits(V::le(l, u)) & applies(l) & applies(u);
+            slow |= std::uint64_t{~ok & live} << (k - begin);
         }
         std::uint64_t slow_def = 0;
-        for (std::uint64_t m = slow; m != 0; m &= m - 1) {
+        for (std::uint64_t m = slow; m != 0; m &= m - 1) {  // before o is written
             const int k = begin + __builtin_ctzll(m);
             const UpInterval v = f(lane(a, k));
-            o.lo[k] = v.lower();
-            o.hi[k] = v.upper();
+            lo[k] = v.lower();
+            hi[k] = v.upper();
             slow_def |= std::uint64_t{v.defined} << (k - begin);
+        }
+        for (int k = begin; k < end; k += W) {
+            V::store(o.lo + k, V::load(lo + k));
+            V::store(o.hi + k, V::load(hi + k));
         }
         o.defined[w] = (def & ~slow) | slow_def;
     }
@@ -456,8 +460,12 @@ template <class V>
         V::store(lo + k, V::neg(below));
         V::store(hi + k, certray::detail::exp_bound<V>(V::load(a.hi + k), V::set1(1.0), hi_coef));
     }
-    kernel_or_scalar(a, o, n, lo, hi, certray::detail::exp_kernel_applies,
-                     [](const UpInterval& x) { return exp(x); });
+    // As exp_kernel_applies: −708 ≤ x ≤ 708, x ≠ 0.
+    const auto applies = [](typename V::R x) {
+        return V::bits(V::le(V::set1(-708.0), x)) & V::bits(V::le(x, V::set1(708.0))) &
+               ~V::bits(V::eq(x, V::set1(0.0)));
+    };
+    kernel_or_scalar<V>(a, o, n, lo, hi, applies, [](const UpInterval& x) { return exp(x); });
 }
 
 /// log of lanes 0 … n − 1, as interval.h's log() computes it: the kernel's bounds where both
@@ -470,8 +478,13 @@ template <class V>
         V::store(lo + k, V::neg(certray::detail::log_bound<V>(V::load(a.lo + k), V::set1(-1.0))));
         V::store(hi + k, certray::detail::log_bound<V>(V::load(a.hi + k), V::set1(1.0)));
     }
-    kernel_or_scalar(a, o, n, lo, hi, certray::detail::log_kernel_applies,
-                     [](const UpInterval& x) { return log(x); });
+    // As log_kernel_applies: x normal, positive, finite, x ≠ 1.
+    const auto applies = [](typename V::R x) {
+        return V::bits(V::le(V::set1(0x1p-1022), x)) &
+               V::bits(V::le(x, V::set1(0x1.fffffffffffffp+1023))) &
+               ~V::bits(V::eq(x, V::set1(1.0)));
+    };
+    kernel_or_scalar<V>(a, o, n, lo, hi, applies, [](const UpInterval& x) { return log(x); });
 }
 
 /// sin (sine) or cos of lanes 0 … n − 1, as interval.h's sin() and cos() compute them: the bounds
@@ -491,8 +504,12 @@ template <class V>
         V::store(lo + k, l);
         V::store(hi + k, h);
     }
-    kernel_or_scalar(a, o, n, lo, hi, certray::detail::trig_kernel_applies,
-                     [sine](const UpInterval& x) { return sine ? sin(x) : cos(x); });
+    // As trig_kernel_applies: |x| ≤ 2¹⁹.
+    const auto applies = [](typename V::R x) {
+        return V::bits(V::le(V::set1(-0x1p19), x)) & V::bits(V::le(x, V::set1(0x1p19)));
+    };
+    kernel_or_scalar<V>(a, o, n, lo, hi, applies,
+                        [sine](const UpInterval& x) { return sine ? sin(x) : cos(x); });
 }
 
 /// The walk over vectors of V.
