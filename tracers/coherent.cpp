@@ -251,7 +251,7 @@ class Walker {
     /// enclosure over the box X and c its centre; empty when it does not apply (f not proven
     /// defined and continuous on the box, or an unbounded gradient).
     /// `tl`: the list's tangent list when it is smooth (expr/tangent.h), which takes the form of
-    /// several rays in four lanes of one walk instead of a Dual<UpInterval, 3> walk; or null.
+    /// several rays in five lanes of one walk instead of a Dual<UpInterval, 3> walk; or null.
     UpInterval mean_value(const Ssa& list, double a, double b, const double* olo, const double* ohi,
                           const double* dlo, const double* dhi,
                           const expr::TangentList* tl = nullptr);
