@@ -23,14 +23,7 @@ namespace {
 
 #ifdef CERTRAY_X86_64_ROUNDING
 
-/// An MPFR number at 256 bits, cleared on scope exit.
-struct Big {
-    mpfr_t v;
-    Big() { mpfr_init2(v, 256); }
-    ~Big() { mpfr_clear(v); }
-    Big(const Big&) = delete;
-    Big& operator=(const Big&) = delete;
-};
+using Big = testing::Mpfr256;
 
 TEST(ExpKernel, CoefficientsBoundTheReciprocalFactorials) {
     using K = detail::ExpKernel;

@@ -25,14 +25,7 @@ namespace {
 
 #ifdef CERTRAY_X86_64_ROUNDING
 
-/// An MPFR number at 256 bits, cleared on scope exit.
-struct Big {
-    mpfr_t v;
-    Big() { mpfr_init2(v, 256); }
-    ~Big() { mpfr_clear(v); }
-    Big(const Big&) = delete;
-    Big& operator=(const Big&) = delete;
-};
+using Big = testing::Mpfr256;
 
 /// How far a bound may lie from the value it bounds: kRelative·2⁻⁵²·|value| + kAbsolute (the
 /// reduction: |k|·2⁻⁸⁷ and the roundings of x − k·P1 and k·P2, below 2⁻⁶² for |x| ≤ 2¹⁹).

@@ -5,6 +5,8 @@
 // exact (mpfr_cmp_d), never through a rounded conversion.
 #pragma once
 
+#include <mpfr.h>
+
 #include <array>
 #include <string>
 
@@ -12,6 +14,15 @@
 #include "interval/mpfr_interval.h"
 
 namespace certray::testing {
+
+/// One MPFR number at 256 bits, cleared on scope exit: the exact side of a test of constants.
+struct Mpfr256 {
+    mpfr_t v;
+    Mpfr256() { mpfr_init2(v, 256); }
+    ~Mpfr256() { mpfr_clear(v); }
+    Mpfr256(const Mpfr256&) = delete;
+    Mpfr256& operator=(const Mpfr256&) = delete;
+};
 
 /// True iff [exact.lo, exact.hi] ⊆ [lo, hi], compared exactly. An empty `exact` is enclosed by
 /// anything (even lo > hi); lo = −inf and hi = +inf are accepted; NaN bounds enclose nothing
