@@ -106,6 +106,7 @@ void BM_Coherent(benchmark::State& state) {
     state.counters["together/px"] = static_cast<double>(s.together) / px;
     state.counters["tiles/px"] = static_cast<double>(s.tile_pieces) / px;
     state.counters["tile_hits/px"] = static_cast<double>(s.tile_decided) / px;
+    state.counters["quarters/px"] = static_cast<double>(s.quarter_pieces) / px;
     state.counters["leaf_evals/px"] = static_cast<double>(r.stats.evals.total() - s.box_evals) / px;
     state.counters["box_len"] =
         s.box_evals > 0 ? static_cast<double>(s.box_instructions) / s.box_evals : 0;

@@ -48,7 +48,7 @@ struct LaneBox {
 };
 
 /// The box of ray_box(ray, p, q), as a LaneBox.
-LaneBox lane_box(const Ray& ray, double p, double q) {
+[[gnu::always_inline]] inline LaneBox lane_box(const Ray& ray, double p, double q) {
     LaneBox b;
     ray_bounds(ray, p, q, b.lo, b.hi);
     return b;
@@ -241,9 +241,11 @@ class Walker {
     expr::TangentKind tangent_kind(const Ssa& list, unsigned depth);
     /// The level whose list `list` is (`depth` or above), or null.
     Level* owner_of(const Ssa& list, unsigned depth);
-    /// Enclosures of f and of its derivative along each lane's direction dirs_[k] over the boxes
-    /// boxes[0, n), by the tangent list `tl`, into lane_values_[0, n) and lane_slopes_[0, n).
-    void eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxes, std::size_t n);
+    /// Enclosures of f and of its derivative along each lane's direction dirs[k] over the boxes
+    /// boxes[0, n), by the tangent list `tl`, into values[0, n) and slopes[0, n).
+    void eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxes,
+                            const std::array<double, 3>* dirs, std::size_t n,
+                            std::vector<UpInterval>& values, std::vector<UpInterval>& slopes);
     /// Solid: every open ray of r that meets [a, b] enters {f < 0} at its first parameter in
     /// [a, b] (the box there is proven inside, and g ≥ 0 is proven before): a Hit [t, t].
     void inside(const Rect& r, double a, double b, const Ssa& list);
@@ -271,10 +273,9 @@ class Walker {
     /// point tests decided (res: Unknown from p): the mean value form in t, tighter on a short
     /// piece than the plain enclosure. Proven free: the scan of the rest [q, s.tmax]; proven
     /// inside (solid): Hit [p, p]; else res.
-    /// `tried`: the form was already tried on [p, q] (scan_together's lanes): straight to the
-    /// quarters.
+    /// `form`: what the form proves on [p, q] when it was taken already (scan_together's lanes).
     RayResult after_points(const Ssa& list, const Ray& s, double p, double q, RayResult res,
-                           int finer = 2, bool tried = false);
+                           int finer = 2, const Proof* form = nullptr);
     /// The certified answer on one ray segment, for the surface asked for.
     RayResult solve(const expr::Tape& tape, const Ray& ray) const {
         return solid_ ? solvers::solid_first_entry(tape, ray, solid_options_)
@@ -371,6 +372,21 @@ class Walker {
     std::array<double, 2 * kMaxPieces + 1> tile_t_{};
     std::vector<Piece> pieces_;
     std::vector<std::size_t> first_piece_, point_lane_;
+    /// scan_together()'s rays waiting for the quarters of their piece (first_piece_): the piece
+    /// as a segment, its quarters' lanes [box, box + count), the first one not proven free (or
+    /// count), its point lanes [points, points + m) and the quarters' own result.
+    struct Waiting {
+        std::size_t ray;
+        Ray seg{};
+        std::size_t box = 0, count = 0, first = 0, points = 0;
+        int m = 0;
+        RayResult res{};
+    };
+    std::vector<Waiting> waiting_, still_;
+    std::vector<LaneBox> quarter_boxes_;
+    std::vector<std::pair<double, double>> quarter_t_;
+    std::vector<UpInterval> quarter_values_, quarter_points_, quarter_slopes_;
+    std::vector<std::array<double, 3>> quarter_dirs_;
     std::array<expr::IntervalLanes, 3> lane_in_;  ///< eval_lanes()'s boxes, x, y, z
     std::vector<expr::IntervalLanes> lane_regs_;  ///< eval_lanes()'s registers
 };
@@ -422,8 +438,8 @@ RayResult Walker::scan(const Ssa& list, const Ray& s, double width, int finer) {
 }
 
 RayResult Walker::after_points(const Ssa& list, const Ray& s, double p, double q, RayResult res,
-                               int finer, bool tried) {
-    Proof again = tried ? Proof::None : piece_mean_value(list, s, p, q, res);
+                               int finer, const Proof* form) {
+    Proof again = form != nullptr ? *form : piece_mean_value(list, s, p, q, res);
     if (again == Proof::None && finer > 0) {
         // Scanned again in quarters: a Hit or an Unknown there is the answer (the segment is
         // free before p); a Miss proves [p, q] free.
@@ -915,23 +931,25 @@ expr::TangentKind Walker::tangent_kind(const Ssa& list, unsigned depth) {
     return *owner->kind;
 }
 
-void Walker::eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxes, std::size_t n) {
+void Walker::eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxes,
+                                const std::array<double, 3>* dirs, std::size_t n,
+                                std::vector<UpInterval>& values, std::vector<UpInterval>& slopes) {
     if (lane_regs_.size() < tl.slots) lane_regs_.resize(tl.slots);
-    if (lane_values_.size() < n) lane_values_.resize(n);
-    if (lane_slopes_.size() < n) lane_slopes_.resize(n);
+    if (values.size() < n) values.resize(n);
+    if (slopes.size() < n) slopes.resize(n);
     for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
         const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
         load_lanes(boxes + k0, m);
         for (int k = 0; k < m; ++k) {
             for (int c = 0; c < 3; ++c) {
-                expr::set_lane(lane_regs_[tl.seed[c]], k, UpInterval(dirs_[k0 + k][c]));
+                expr::set_lane(lane_regs_[tl.seed[c]], k, UpInterval(dirs[k0 + k][c]));
             }
         }
         expr::run_interval_batch(tl.list.data(), tl.list.data() + tl.list.size(), lane_in_.data(),
                                  lane_regs_.data(), m);
         for (int k = 0; k < m; ++k) {
-            lane_values_[k0 + k] = expr::lane(lane_regs_[tl.value], k);
-            lane_slopes_[k0 + k] = expr::lane(lane_regs_[tl.derivative], k);
+            values[k0 + k] = expr::lane(lane_regs_[tl.value], k);
+            slopes[k0 + k] = expr::lane(lane_regs_[tl.derivative], k);
         }
     }
 }
@@ -1066,37 +1084,45 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
     // piece's first point value (q for the solid; p, then q, for the zero set), or none.
     const auto proven_neg = [](const UpInterval& v) { return v.defined && v.upper() < 0; };
     const auto proven_pos = [](const UpInterval& v) { return v.defined && v.lower() > 0; };
-    const auto points_of = [&](std::size_t k) -> int {
-        if (piece_proof_[k] == Proof::Inside) return 0;
-        return solid_ ? 1 : piece_values_[k].defined ? 2 : 0;
+    const auto points_for = [&](const UpInterval& e) -> int {  // e: the piece's enclosure
+        if (proof(e) == Proof::Inside) return 0;
+        return solid_ ? 1 : e.defined ? 2 : 0;
     };
+    const auto points_of = [&](std::size_t k) { return points_for(piece_values_[k]); };
     const auto hit = [](RayResult& res, double lo, double hi) {
         res.status = Status::Hit;
         res.t_lo = lo;
         res.t_hi = hi;
         res.t = 0.5 * lo + 0.5 * hi;
     };
-    const auto decide = [&](Level::Scanned& z, std::size_t k, const UpInterval* point) {
-        const Piece& c = pieces_[k];
-        RayResult& res = z.res;
+    // The decision on a piece [p, q] of enclosure e (not proven free), up to `tmax`.
+    const auto decide_piece = [&](RayResult& res, const UpInterval& e, double p, double q,
+                                  double tmax, const UpInterval* point) {
         res.status = Status::Unknown;
-        res.t_lo = c.p;
-        res.t_hi = z.s.tmax;
-        if (piece_proof_[k] == Proof::Inside) return hit(res, c.p, c.p);
-        const int m = points_of(k);
+        res.t_lo = p;
+        res.t_hi = tmax;
+        if (proof(e) == Proof::Inside) return hit(res, p, p);
+        const int m = points_for(e);
         res.evals.interval += static_cast<unsigned>(m);
-        if (m == 1 && proven_neg(point[0])) return hit(res, c.p, c.q);
+        if (m == 1 && proven_neg(point[0])) return hit(res, p, q);
         if (m == 2 && ((proven_neg(point[0]) && proven_pos(point[1])) ||
                        (proven_pos(point[0]) && proven_neg(point[1])))) {
-            return hit(res, c.p, c.q);
+            return hit(res, p, q);
         }
+    };
+    const auto decide = [&](Level::Scanned& z, std::size_t k, const UpInterval* point) {
+        const Piece& c = pieces_[k];
+        decide_piece(z.res, piece_values_[k], c.p, c.q, z.s.tmax, point);
+    };
+    const auto add_points_of = [&](std::vector<LaneBox>& boxes, const Ray& ray, const UpInterval& e,
+                                   double p, double q) {
+        const int m = points_for(e);
+        if (m == 2) boxes.push_back(lane_box(ray, p, p));
+        if (m >= 1) boxes.push_back(lane_box(ray, q, q));
     };
     const auto add_points = [&](std::vector<LaneBox>& boxes, std::size_t k) {
         const Piece& c = pieces_[k];
-        const Ray& full = px(c.i, c.j).ray;
-        const int m = points_of(k);
-        if (m == 2) boxes.push_back(lane_box(full, c.p, c.p));
-        if (m >= 1) boxes.push_back(lane_box(full, c.q, c.q));
+        add_points_of(boxes, px(c.i, c.j).ray, piece_values_[k], c.p, c.q);
     };
 
     // Each ray's first piece not proven free by its enclosure, decided by its points (a second
@@ -1137,7 +1163,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
     // polynomial's pieces near its surface; without it, after_points() tries the form one ray and
     // one piece at a time.
     // A list with kinks: its forms are looser at the kinks' ties, so they are tried while they
-    // pay in the root tile (otherwise the rays take after_points()'s scalar form, with hulls).
+    // pay in the root tile (otherwise each ray's form is one Dual walk, piece_mean_value()).
     const expr::TangentKind kind =
         open > 0 && options_.lane_mean_value ? tangent_kind(list, depth) : expr::TangentKind::None;
     const bool kinked = kind == expr::TangentKind::Kinked;
@@ -1166,59 +1192,180 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
             }
             dirs_.resize(form_boxes_.size(), full.d);
         }
-        eval_tangent_lanes(*tl, form_boxes_.data(), form_boxes_.size());
-        const auto form = [&](std::size_t k, RayResult& res) {
-            const std::size_t l = form_of_[k];
-            const UpInterval& g1 = lane_slopes_[l];
-            const UpInterval& m = lane_values_[l + 1];
-            if (!piece_values_[k].defined || g1.is_empty() || !std::isfinite(g1.lower()) ||
-                !std::isfinite(g1.upper()) || m.is_empty() || !m.defined) {
-                return Proof::None;
-            }
-            ++res.evals.gradient;
-            ++res.evals.interval;
-            const UpInterval t(pieces_[k].p, pieces_[k].q);
-            const Proof pr = proof(m + g1 * (t - UpInterval(midpoint(t))));
-            stats.lane_forms += pr != Proof::None;
-            ++forms_tried;
-            forms_proven += pr != Proof::None;
-            return pr;
-        };
-        for (std::size_t ray = 0; ray < rays; ++ray) {
-            Level::Scanned& z = level.scanned[ray];
-            if (z.res.status != Status::Unknown) continue;
-            for (std::size_t k = first[ray];;) {
-                const Proof pr = form(k, z.res);
-                if (pr == Proof::Inside) {
-                    hit(z.res, pieces_[k].p, pieces_[k].p);
-                    break;
-                }
-                if (pr == Proof::None) {  // the quarters, from this piece
-                    z.res = after_points(list, z.s, pieces_[k].p, pieces_[k].q, z.res, 2, true);
-                    break;
-                }
-                // Free up to q: the next piece its enclosure does not prove free, if any.
-                do {
-                    ++k;
-                    if (k < z.end) ++z.res.evals.interval;
-                } while (k < z.end && piece_proof_[k] == Proof::Excluded);
-                if (k == z.end) {
-                    z.res.status = Status::Miss;
-                    break;
-                }
-                decide(z, k, lane_values_.data() + form_of_[k] + 2);
-                if (z.res.status != Status::Unknown) break;
-            }
-        }
-        if (kinked) kink_forms_.wins += 2 * forms_proven >= forms_tried;
-    } else {
-        for (std::size_t ray = 0; ray < rays; ++ray) {
-            Level::Scanned& z = level.scanned[ray];
-            if (z.res.status != Status::Unknown) continue;
-            const Piece& c = pieces_[first[ray]];
-            z.res = after_points(list, z.s, c.p, c.q, z.res);
-        }
+        eval_tangent_lanes(*tl, form_boxes_.data(), dirs_.data(), form_boxes_.size(), lane_values_,
+                           lane_slopes_);
     }
+    // The mean value form on a piece [p, q] of enclosure e from its lanes: G′ (the derivative
+    // over the piece) and the value at its middle.
+    const auto lane_form = [&](const UpInterval& e, const UpInterval& g1, const UpInterval& m,
+                               double p, double q, RayResult& res) {
+        if (!e.defined || g1.is_empty() || !std::isfinite(g1.lower()) ||
+            !std::isfinite(g1.upper()) || m.is_empty() || !m.defined) {
+            return Proof::None;
+        }
+        ++res.evals.gradient;
+        ++res.evals.interval;
+        const UpInterval t(p, q);
+        const Proof pr = proof(m + g1 * (t - UpInterval(midpoint(t))));
+        stats.lane_forms += pr != Proof::None;
+        ++forms_tried;
+        forms_proven += pr != Proof::None;
+        return pr;
+    };
+    const auto form = [&](std::size_t k, RayResult& res) {
+        const std::size_t l = form_of_[k];
+        return lane_form(piece_values_[k], lane_slopes_[l], lane_values_[l + 1], pieces_[k].p,
+                         pieces_[k].q, res);
+    };
+    // Each undecided ray from its piece on, as scan() and after_points() go on: the piece's mean
+    // value form (from the lanes, or one Dual walk without a tangent list) decides it, or the
+    // piece is scanned again in quarters, where a Hit or an Unknown is the answer. A piece proven
+    // free passes the ray to its next piece that the lanes' enclosures do not prove free, decided
+    // by its points (the lanes', or two point walks), else as this one (a scan afresh from there
+    // would evaluate the later pieces again).
+    UpInterval points[2];
+    if (tl == nullptr && scan_.size() < list.size()) scan_.resize(list.size());
+    const auto point = [&](const Ray& ray, double t) {
+        expr::detail::run<UpInterval>(list, ray_box(ray, t, t), scan_.data());
+        return scan_[list.back().out];
+    };
+    // Ray z's piece k is free: its next piece not proven free, decided by its points; false when
+    // that decides the ray (a Miss past its last piece, or a Hit).
+    const auto next = [&](Level::Scanned& z, std::size_t& k) {
+        do {
+            ++k;
+            if (k < z.end) ++z.res.evals.interval;
+        } while (k < z.end && piece_proof_[k] == Proof::Excluded);
+        if (k == z.end) {
+            z.res.status = Status::Miss;
+            return false;
+        }
+        if (tl != nullptr) {
+            decide(z, k, lane_values_.data() + form_of_[k] + 2);
+        } else {
+            const Piece& e = pieces_[k];
+            const Ray& full = px(e.i, e.j).ray;
+            const int m = points_of(k);
+            if (m == 2) points[0] = point(full, e.p);
+            if (m >= 1) points[m - 1] = point(full, e.q);
+            decide(z, k, points);
+        }
+        return z.res.status == Status::Unknown;
+    };
+    // Ray z undecided at its piece k: its forms there and on; true when it waits for the
+    // quarters of piece k (its form does not decide it), false when it is decided.
+    const auto go_on = [&](Level::Scanned& z, std::size_t& k) {
+        for (;;) {
+            const Piece& c = pieces_[k];
+            const Proof pr =
+                tl != nullptr ? form(k, z.res) : piece_mean_value(list, z.s, c.p, c.q, z.res);
+            if (pr == Proof::Inside) {
+                hit(z.res, c.p, c.p);
+                return false;
+            }
+            if (pr == Proof::None) return true;
+            if (!next(z, k)) return false;
+        }
+    };
+    waiting_.clear();
+    for (std::size_t ray = 0; ray < rays; ++ray) {
+        Level::Scanned& z = level.scanned[ray];
+        if (z.res.status == Status::Unknown && go_on(z, first[ray])) waiting_.push_back({ray});
+    }
+    // The quarters of the waiting rays' pieces, in rounds: each quarter one lane of a batched
+    // evaluation, then the points of each ray's first quarter not proven free another; each
+    // ray's quarters decided as scan() decides them (the same enclosures, bit for bit), with
+    // after_points() on a quarter that they leave undecided.
+    while (!waiting_.empty()) {
+        stats.quarter_pieces += waiting_.size();
+        quarter_boxes_.clear();
+        for (Waiting& v : waiting_) {
+            const Level::Scanned& z = level.scanned[v.ray];
+            const Piece& c = pieces_[first[v.ray]];
+            const Ray& full = px(z.i, z.j).ray;
+            v.seg = z.s;
+            v.seg.tmin = c.p;
+            v.seg.tmax = c.q;
+            const double w = 0.25 * (c.q - c.p);
+            const int m = pieces_of(v.seg, w);
+            v.box = quarter_boxes_.size();
+            for (int j = 0; j < m; ++j) {
+                const auto [lo, hi] = piece(v.seg, w, j, m);
+                if (!(lo < hi)) continue;
+                quarter_boxes_.push_back(lane_box(full, lo, hi));
+                quarter_t_.resize(quarter_boxes_.size());
+                quarter_t_.back() = {lo, hi};
+            }
+            v.count = quarter_boxes_.size() - v.box;
+        }
+        eval_lanes(list, quarter_boxes_.data(), quarter_boxes_.size(), quarter_values_);
+        points_.clear();
+        quarter_dirs_.clear();
+        for (Waiting& v : waiting_) {
+            const Level::Scanned& z = level.scanned[v.ray];
+            const Ray& full = px(z.i, z.j).ray;
+            v.res = RayResult{};
+            v.res.status = Status::Miss;
+            v.first = v.count;
+            for (std::size_t j = 0; j < v.count; ++j) {
+                ++v.res.evals.interval;
+                if (proof(quarter_values_[v.box + j]) != Proof::Excluded) {
+                    v.first = j;
+                    break;
+                }
+            }
+            if (v.first == v.count) continue;
+            const UpInterval& e = quarter_values_[v.box + v.first];
+            const auto [lo, hi] = quarter_t_[v.box + v.first];
+            v.points = points_.size();
+            v.m = points_for(e);
+            add_points_of(points_, full, e, lo, hi);
+            if (tl != nullptr && v.m >= 1) {  // the quarter's form: its box, then its centre
+                points_.push_back(quarter_boxes_[v.box + v.first]);
+                const double tc = midpoint(UpInterval(lo, hi));
+                points_.push_back(lane_box(full, tc, tc));
+            }
+            quarter_dirs_.resize(points_.size(), full.d);
+        }
+        if (!points_.empty() && tl != nullptr) {
+            eval_tangent_lanes(*tl, points_.data(), quarter_dirs_.data(), points_.size(),
+                               quarter_points_, quarter_slopes_);
+        } else if (!points_.empty()) {
+            eval_lanes(list, points_.data(), points_.size(), quarter_points_);
+        }
+        still_.clear();
+        for (Waiting& v : waiting_) {
+            Level::Scanned& z = level.scanned[v.ray];
+            std::size_t& k = first[v.ray];
+            if (v.first < v.count) {
+                const UpInterval& e = quarter_values_[v.box + v.first];
+                const auto [lo, hi] = quarter_t_[v.box + v.first];
+                RayResult& res = v.res;
+                decide_piece(res, e, lo, hi, v.seg.tmax, quarter_points_.data() + v.points);
+                if (res.status == Status::Unknown && tl != nullptr) {
+                    const std::size_t l = v.points + static_cast<std::size_t>(v.m);
+                    const Proof pr =
+                        lane_form(e, quarter_slopes_[l], quarter_points_[l + 1], lo, hi, res);
+                    res = after_points(list, v.seg, lo, hi, res, 1, &pr);
+                } else if (res.status == Status::Unknown) {
+                    res = after_points(list, v.seg, lo, hi, res, 1);
+                }
+                res.evals += z.res.evals;
+                if (res.status != Status::Miss) {
+                    if (res.status == Status::Unknown) res.t_hi = z.s.tmax;
+                    z.res = res;
+                    continue;
+                }
+                z.res.evals = res.evals;
+            } else {
+                z.res.evals += v.res.evals;
+            }
+            // Piece k proven free in quarters: on to the next one.
+            if (next(z, k) && go_on(z, k)) still_.push_back(v);
+        }
+        waiting_.swap(still_);
+    }
+    if (kinked && tl != nullptr) kink_forms_.wins += 2 * forms_proven >= forms_tried;
     // Settled in pixel order; a split recurses into deeper levels, which do not touch this one.
     for (std::size_t ray = 0; ray < level.scanned.size(); ++ray) {
         const Level::Scanned& z = level.scanned[ray];  // settle() recurses into deeper levels only
@@ -1437,6 +1584,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.lane_forms += s.lane_forms;
         total.tile_pieces += s.tile_pieces;
         total.tile_decided += s.tile_decided;
+        total.quarter_pieces += s.quarter_pieces;
     }
     for (std::size_t k = 0; k < pixels; ++k) {
         st.hit += ans.status[k] == Status::Hit;

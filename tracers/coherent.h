@@ -144,7 +144,10 @@ struct CoherentStats {
     std::uint64_t lane_forms = 0;
     std::uint64_t tile_pieces = 0;   ///< tile pieces evaluated (CoherentOptions::tile_pieces)
     std::uint64_t tile_decided = 0;  ///< rays answered by tile pieces
-    std::uint64_t tape_length = 0;   ///< instructions of the full tape
+    /// scanned pieces that neither their points nor their form decided, scanned again in
+    /// quarters in lanes (several rays' quarters in one batched evaluation)
+    std::uint64_t quarter_pieces = 0;
+    std::uint64_t tape_length = 0;  ///< instructions of the full tape
 };
 
 /// The rays of an image, pixel by pixel: what render_3d_coherent answers, and what a per-ray

@@ -30,7 +30,8 @@ inline std::array<UpInterval, 3> segment_box(const double* olo, const double* oh
 /// bounds segment_box gives for a point origin and direction, with two products and two sums
 /// instead of an interval product (a rounding down is the negation of a rounding up of the
 /// negated operands).
-inline void ray_bounds(const Ray& ray, double p, double q, double* lo, double* hi) {
+[[gnu::always_inline]] inline void ray_bounds(const Ray& ray, double p, double q, double* lo,
+                                              double* hi) {
     for (int c = 0; c < 3; ++c) {
         const double o = ray.o[c], d = ray.d[c];
         const double tl = d >= 0 ? p : q, th = d >= 0 ? q : p;

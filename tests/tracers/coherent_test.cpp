@@ -370,9 +370,10 @@ TEST(Coherent, HitsAreHalfAPixelDeepAndHoldTheRootOfMathematics) {
 TEST(Coherent, ImageScansInLanesAgreeWithThePerRaySolver) {
     // What `certray render` asks for an image: hits half a pixel deep, leaf segments scanned in
     // lanes, undecided pieces given the mean value form in the same lanes (lane_mean_value) or
-    // one ray at a time (off). Both keep every pixel's per-ray answer; on the polynomial scenes
-    // the lanes' form is what decides pieces near the surface.
-    std::uint64_t barth_forms = 0;
+    // one ray at a time (off), and scanned again in quarters in lanes where that does not
+    // decide. All keep every pixel's per-ray answer; on the polynomial scenes the lanes' form is
+    // what decides pieces near the surface.
+    std::uint64_t barth_forms = 0, quarters = 0;
     for (const fs::path& path : gallery()) {
         const expr::Tape tape(expr::load_graph_file(path.string()));
         if (!tape.uses_var(2)) continue;
@@ -399,10 +400,12 @@ TEST(Coherent, ImageScansInLanesAgreeWithThePerRaySolver) {
                     EXPECT_EQ(stats.lane_forms, 0u) << where;
                 }
                 if (lanes && path.filename() == "barth_sextic.vm") barth_forms += stats.lane_forms;
+                quarters += stats.quarter_pieces;
             }
         }
     }
     EXPECT_GT(barth_forms, 0u);
+    EXPECT_GT(quarters, 0u);  // the quarters' lanes were among what agreed
 }
 
 TEST(Coherent, PerRaySolverDefaultsKeepTheAnswers) {
@@ -587,6 +590,7 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     RC_ASSERT(a.wrong == 0u);
     RC_TAG(stats.lane_forms > 0 ? "lane forms proved pieces" : "no lane form needed");
     RC_TAG(stats.tile_decided > 0 ? "tile pieces answered rays" : "no ray answered by tiles");
+    RC_TAG(stats.quarter_pieces > 0 ? "pieces scanned in quarters in lanes" : "no quarters");
 }
 
 RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
