@@ -1337,6 +1337,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         for (Waiting& v : waiting_) {
             Level::Scanned& z = level.scanned[v.ray];
             std::size_t& k = first[v.ray];
+            if (v.count == 0) continue;  // no quarter to look at: Unknown from the piece on
             if (v.first < v.count) {
                 const UpInterval& e = quarter_values_[v.box + v.first];
                 const auto [lo, hi] = quarter_t_[v.box + v.first];
