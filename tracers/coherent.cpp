@@ -55,13 +55,13 @@ struct LaneBox {
 }
 
 /// Something tried while it pays in a root tile (the mean value form of a box, tile pieces): the
-/// first `First` tries, then while at least one try in four wins, and one in `Every` otherwise, to
-/// notice when it pays again. Each root tile starts afresh (the same answers in any thread).
-template <unsigned First, unsigned Every>
+/// first `First` tries, then while at least one try in `Share` wins, and one in `Every` otherwise,
+/// to notice when it pays again. Each root tile starts afresh (the same answers in any thread).
+template <unsigned First, unsigned Every, unsigned Share = 4>
 struct PayingTrial {
     unsigned tries = 0, wins = 0, passed = 0;
     bool attempt() {
-        if (tries < First || 4 * wins >= tries || ++passed % Every == 0) {
+        if (tries < First || Share * wins >= tries || ++passed % Every == 0) {
             ++tries;
             return true;
         }
@@ -309,11 +309,25 @@ class Walker {
     /// proved at least half the pieces they were taken on): the first 4, then one in 16 (the
     /// molecule's forms prove 16% of such pieces, the bear's 67%).
     PayingTrial<4, 16> kink_forms_;
-    /// Whether to try the mean value form on a box of `count` rays.
-    bool try_mean_value(unsigned count) {
-        if (count > mean_value_rays_) return false;
-        return !adaptive_ || mean_values_.attempt();
+    /// Whether to try the mean value form on a box of `count` rays whose list is `list` (kept
+    /// at `depth`): beyond 16 rays only where the list has a tangent list without kinks, which
+    /// gives the form from five lanes.
+    bool try_mean_value(unsigned count, const Ssa& list, unsigned depth) {
+        if (!adaptive_) return count <= mean_value_rays_;
+        if (count <= 16) return mean_values_.attempt();
+        if (tangent_kind(list, depth) != expr::TangentKind::Smooth) return false;
+        return wide_forms_.attempt();
     }
+    /// Counts a try of the form on a box of `count` rays (`won`: it proved the box).
+    void mean_value_tried(unsigned count, bool won) {
+        (count <= 16 ? mean_values_.wins : wide_forms_.wins) += won;
+    }
+    /// With the option unset, the forms of boxes of more than 16 rays on smooth lists, tried
+    /// apart from the smaller ones while one in three wins: the first, then one in 16 (Chmutov's
+    /// sextic wins 42% of them and its heightmap takes a third less time; Barth's 12%,
+    /// docs/benchmarks.md, session 13). Lists with kinks keep 16 rays: their forms are Dual walks
+    /// (the colonnade took 28% longer).
+    PayingTrial<1, 16, 3> wide_forms_;
     solvers::CertifiedOptions certified_;  ///< options.certified with the image's depth width
     solvers::SolidOptions solid_options_;
     const bool choices_;  ///< the tape has min/max: pruning can shorten it
@@ -612,6 +626,7 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
 void Walker::tile(const Rect& r) {
     root_ = r;
     mean_values_.reset();  // each tile decides afresh (the same in any thread)
+    wide_forms_.reset();
     tile_trial_.reset();
     kink_forms_.reset();
     px_.assign(std::size_t{r.w} * r.h, Px{});
@@ -723,12 +738,12 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     // Zero: 0 ∉ F (or f undefined on the whole box), no ray meets f = 0 here. Solid: F ≥ 0, no
     // ray enters {f < 0} here; or F < 0, every ray enters at its first point in the box.
     Proof proven = proof(f);
-    if (proven == Proof::None && try_mean_value(count)) {
+    if (proven == Proof::None && try_mean_value(count, list, depth)) {
         const expr::TangentList* tl =
             tangent_kind(list, depth) == expr::TangentKind::Smooth ? tangent(list, depth) : nullptr;
         const UpInterval m = mean_value(list, a, b, olo, ohi, dlo, dhi, tl);
         if (!m.is_empty()) proven = proof(m);  // empty: the form does not apply
-        mean_values_.wins += proven != Proof::None;
+        mean_value_tried(count, proven != Proof::None);
     }
     if (proven == Proof::Excluded) {
         ++stats.boxes_excluded;

@@ -85,10 +85,12 @@ struct CoherentOptions {
     /// Where the interval enclosure of f over a box of at most this many rays holds 0, try the
     /// mean value form (f at the box's centre plus the gradient enclosure times the box's radius;
     /// one gradient and one point evaluation), which is second-order tight on small boxes (and
-    /// seldom pays on larger ones). 0: never. Unset: 16, and in each root tile the form is tried
-    /// only while it pays (the first 16 tries, then while one in four proves a box, else one try
-    /// in eight): it is what makes polynomial scenes fast, and costs more than it saves on
-    /// Fidget's exp-blended bear (docs/benchmarks.md, session 7).
+    /// seldom pays on larger ones). 0: never. Unset: in each root tile the form is tried on boxes
+    /// of at most 16 rays while it pays (the first 16 tries, then while one in four proves a
+    /// box, else one try in eight): it is what makes polynomial scenes fast, and costs more than
+    /// it saves on Fidget's exp-blended bear (docs/benchmarks.md, session 7); on larger boxes
+    /// whose list is smooth (a tangent list without kinks: the form from five lanes) apart, while
+    /// one in three proves a box (the first try, then one in 16): Chmutov's sextic, session 13.
     std::optional<unsigned> mean_value_rays;
     /// Images (Pinhole, Ortho) of any AOV but the depth: a pixel's hit enclosure may stop
     /// narrowing once it is at most this many pixel footprints deep (pinhole: relative to t, the
