@@ -1358,7 +1358,8 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
                 const auto [lo, hi] = quarter_t_[v.box + v.first];
                 RayResult& res = v.res;
                 decide_piece(res, e, lo, hi, v.seg.tmax, quarter_points_.data() + v.points);
-                if (res.status == Status::Unknown && tl != nullptr) {
+                if (res.status == Status::Unknown && tl != nullptr && v.m >= 1) {
+                    // The quarter's form lanes follow its points (taken where it has points).
                     const std::size_t l = v.points + static_cast<std::size_t>(v.m);
                     const Proof pr =
                         lane_form(e, quarter_slopes_[l], quarter_points_[l + 1], lo, hi, res);
