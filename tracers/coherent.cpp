@@ -321,6 +321,7 @@ class Walker {
     /// Counts a try of the form on a box of `count` rays (`won`: it proved the box).
     void mean_value_tried(unsigned count, bool won) {
         (count <= 16 ? mean_values_.wins : wide_forms_.wins) += won;
+        stats.wide_forms += count > 16 && won;
     }
     /// With the option unset, the forms of boxes of more than 16 rays on smooth lists, tried
     /// apart from the smaller ones while one in three wins: the first, then one in 16 (Chmutov's
@@ -1294,6 +1295,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
     while (!waiting_.empty()) {
         stats.quarter_pieces += waiting_.size();
         quarter_boxes_.clear();
+        quarter_t_.clear();
         for (Waiting& v : waiting_) {
             const Level::Scanned& z = level.scanned[v.ray];
             const Piece& c = pieces_[first[v.ray]];
@@ -1308,8 +1310,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
                 const auto [lo, hi] = piece(v.seg, w, j, m);
                 if (!(lo < hi)) continue;
                 quarter_boxes_.push_back(lane_box(full, lo, hi));
-                quarter_t_.resize(quarter_boxes_.size());
-                quarter_t_.back() = {lo, hi};
+                quarter_t_.push_back({lo, hi});
             }
             v.count = quarter_boxes_.size() - v.box;
         }
@@ -1602,6 +1603,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.tile_pieces += s.tile_pieces;
         total.tile_decided += s.tile_decided;
         total.quarter_pieces += s.quarter_pieces;
+        total.wide_forms += s.wide_forms;
     }
     for (std::size_t k = 0; k < pixels; ++k) {
         st.hit += ans.status[k] == Status::Hit;

@@ -149,6 +149,9 @@ struct CoherentStats {
     /// scanned pieces that neither their points nor their form decided, scanned again in
     /// quarters in lanes (several rays' quarters in one batched evaluation)
     std::uint64_t quarter_pieces = 0;
+    /// boxes of more than 16 rays that the mean value form proved (CoherentOptions::
+    /// mean_value_rays unset, smooth lists)
+    std::uint64_t wide_forms = 0;
     std::uint64_t tape_length = 0;  ///< instructions of the full tape
 };
 
