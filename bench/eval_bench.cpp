@@ -19,9 +19,14 @@
 // (d) outside Google Benchmark (skipped with --no_ops): the batch walk's cost per instruction on
 //     synthetic chains of 1,000 instructions of one kind, per copy (what a Const, a unary op, a
 //     result that must be stored cost).
+// (f) with (d), outside Google Benchmark: the interval batch walk's cost per instruction and lane,
+//     on 500 independent instructions of one kind over 8 and 64 lanes (the copy chosen for this
+//     CPU), operands in narrow intervals where each op is defined.
 // (e) `ibatch-scalar/<scene>`: detail::run<UpInterval> box by box inside one RoundingScope (the
 //     certified renderer's walk); `ibatch-<n>/<scene>`: run_interval_batch over n boxes per walk
-//     (expr/eval_interval_batch.h, the copy chosen for this CPU), `ibatch-<isa>-64/<scene>` on
+//     (expr/eval_interval_batch.h, the copy chosen for this CPU), `ibatch-ssa-<n>/<scene>` the
+//     same over the tape's SSA form (a register per instruction: what the coherent renderer's
+//     lists are), `ibatch-<isa>-64/<scene>` on
 //     each copy; 128 boxes of side 2^-6 centred in [-1, 1]^3 per pass, on Barth's sextic
 //     (scenes/barth_sextic.vm), bear and colonnade (scenes/fidget/); CPU ns per box and the
 //     ratio scalar / batch, in table (e).
@@ -536,22 +541,22 @@ void bm_ibatch_scalar(benchmark::State& state, const BoxScene* s) {
 /// run_interval_batch over `lanes` boxes per walk (the inputs set once, outside the timing), on
 /// the copy `isa` (none: the one chosen for this CPU).
 void bm_ibatch(benchmark::State& state, const BoxScene* s, int lanes,
-               std::optional<expr::BatchIsa> isa) {
+               std::optional<expr::BatchIsa> isa, bool ssa = false) {
     const int groups = kIbatchBoxes / lanes;
     std::vector<std::array<expr::IntervalLanes, 3>> in(groups);
     for (int i = 0; i < kIbatchBoxes; ++i) {
         for (int k = 0; k < 3; ++k) expr::set_lane(in[i / lanes][k], i % lanes, s->boxes[i][k]);
     }
-    std::vector<expr::IntervalLanes> regs(s->tape.registers());
+    std::vector<expr::IntervalLanes> regs(ssa ? s->tape.ssa().size() : s->tape.registers());
     const expr::BatchIsa chosen = expr::batch_isa();
     if (isa) expr::set_batch_isa(*isa);
-    const std::vector<expr::Instr>& list = s->tape.instrs();
+    const std::vector<expr::Instr>& list = ssa ? s->tape.ssa() : s->tape.instrs();
     for (auto _ : state) {
         RoundingScope up;
         for (const auto& p : in) {
             expr::run_interval_batch(list.data(), list.data() + list.size(), p.data(), regs.data(),
                                      lanes);
-            benchmark::DoNotOptimize(regs[s->tape.output()]);
+            benchmark::DoNotOptimize(regs[list.back().out]);
         }
     }
     expr::set_batch_isa(chosen);
@@ -785,6 +790,50 @@ void print_ops_table() {
     expr::set_batch_isa(chosen);
 }
 
+/// Table (f): run_interval_batch over lists of kOps instructions of one kind, each reading the
+/// inputs x and y (so no chain: the cost of the kernel, not its latency).
+void print_interval_ops_table() {
+    struct Kind {
+        const char* name;
+        expr::Op op;
+        double lo, hi;  // x's lanes: [lo, hi] + 0.001·lane; y's: [1, 1.001] + 0.001·lane
+    };
+    const Kind kinds[] = {{"add", expr::Op::Add, 1, 2},      {"mul", expr::Op::Mul, 1, 2},
+                          {"div", expr::Op::Div, 1, 2},      {"max", expr::Op::Max, 1, 2},
+                          {"neg", expr::Op::Neg, 1, 2},      {"square", expr::Op::Square, -1, 2},
+                          {"sqrt", expr::Op::Sqrt, 1, 2},    {"exp", expr::Op::Exp, -3, -2.99},
+                          {"log", expr::Op::Log, 1.5, 1.51}, {"sin", expr::Op::Sin, 1, 1.01}};
+    constexpr int kOps = 500;
+    std::printf(
+        "\n(f) The interval batch walk per kind of instruction (%s copy): %d independent "
+        "instructions;\nCPU ns per instruction per lane:\n%-8s %10s %10s\n",
+        expr::batch_isa_name(expr::batch_isa()), kOps, "op", "8 lanes", "64 lanes");
+    for (const Kind& k : kinds) {
+        std::vector<expr::Instr> list;
+        list.push_back({expr::Op::VarX, 0, 0, 0, 0});
+        list.push_back({expr::Op::VarY, 1, 0, 0, 0});
+        for (std::uint32_t i = 0; i < kOps; ++i) list.push_back({k.op, 2 + i, 0, 1, 0});
+        std::array<expr::IntervalLanes, 3> in{};
+        for (int l = 0; l < expr::kIntervalLanes; ++l) {
+            expr::set_lane(in[0], l, UpInterval(k.lo + 0.001 * l, k.hi + 0.001 * l));
+            expr::set_lane(in[1], l, UpInterval(1 + 0.001 * l, 1.001 + 0.001 * l));
+            expr::set_lane(in[2], l, UpInterval(0.0));
+        }
+        std::vector<expr::IntervalLanes> regs(list.size());
+        std::printf("%-8s", k.name);
+        for (int lanes : {8, 64}) {
+            const double ns = time_ns([&] {
+                RoundingScope up;
+                expr::run_interval_batch(list.data(), list.data() + list.size(), in.data(),
+                                         regs.data(), lanes);
+                benchmark::DoNotOptimize(regs.back());
+            });
+            std::printf(" %10.3f", ns / kOps / lanes);
+        }
+        std::printf("\n");
+    }
+}
+
 }  // namespace
 }  // namespace certray
 
@@ -830,7 +879,9 @@ int main(int argc, char** argv) {
         benchmark::RegisterBenchmark(("ibatch-scalar/" + s.name).c_str(), bm_ibatch_scalar, p);
         for (int n : kIbatchLanes) {
             benchmark::RegisterBenchmark(("ibatch-" + std::to_string(n) + "/" + s.name).c_str(),
-                                         bm_ibatch, p, n, std::optional<expr::BatchIsa>());
+                                         bm_ibatch, p, n, std::optional<expr::BatchIsa>(), false);
+            benchmark::RegisterBenchmark(("ibatch-ssa-" + std::to_string(n) + "/" + s.name).c_str(),
+                                         bm_ibatch, p, n, std::optional<expr::BatchIsa>(), true);
         }
         for (expr::BatchIsa isa :
              {expr::BatchIsa::Baseline, expr::BatchIsa::Avx2, expr::BatchIsa::Avx512}) {
@@ -838,7 +889,7 @@ int main(int argc, char** argv) {
             const std::string name =
                 std::string("ibatch-") + expr::batch_isa_name(isa) + "-64/" + s.name;
             benchmark::RegisterBenchmark(name.c_str(), bm_ibatch, p, 64,
-                                         std::optional<expr::BatchIsa>(isa));
+                                         std::optional<expr::BatchIsa>(isa), false);
         }
     }
     benchmark::Initialize(&argc, argv);
@@ -854,6 +905,7 @@ int main(int argc, char** argv) {
     reporter.print_tables();
     if (prune_table) print_prune_table();
     if (ops_table) print_ops_table();
+    if (ops_table) print_interval_ops_table();
     benchmark::Shutdown();
     return 0;
 }

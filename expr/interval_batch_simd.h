@@ -82,6 +82,8 @@ struct IvAvx2 : Avx2 {
     CERTRAY_AVX2 static M both(M a, M b) { return _mm256_and_pd(a, b); }
     CERTRAY_AVX2 static M either(M a, M b) { return _mm256_or_pd(a, b); }
     CERTRAY_AVX2 static R select(M m, R t, R f) { return _mm256_blendv_pd(f, t, m); }
+    /// b where m's sign bit is set, else a (the kernels' selects by a sign).
+    CERTRAY_AVX2 static R by_sign(R a, R b, R m) { return _mm256_blendv_pd(a, b, m); }
     CERTRAY_AVX2 static unsigned bits(M m) { return static_cast<unsigned>(_mm256_movemask_pd(m)); }
 };
 #undef CERTRAY_AVX2

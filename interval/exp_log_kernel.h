@@ -195,7 +195,8 @@ template <class V>
     // t·v: v = |m − 1|/(m + 1) with the denominator rounded against the side t.
     const R den = V::flip(V::add(V::flip(m, ntm), V::flip(V::set1(1.0), ntm)), ntm);
     const R v = V::div(V::flip(V::flip(dm, dsm), tm), den);
-    // The coefficients of side t as t·c: max(t·lo, t·hi).
+    // The coefficients of side t as t·c: max(t·lo, t·hi). (A blend by tm's sign bit, as the trig
+    // kernel's side_coef, measured 8% slower here on AVX2.)
     const auto coef = [&](int i) {
         return V::max(V::flip(V::set1(K::kLo[i]), tm), V::flip(V::set1(K::kHi[i]), tm));
     };
@@ -233,6 +234,8 @@ struct KernelSse2 {
     static M eq(R a, R b) { return _mm_cmpeq_pd(a, b); }
     static M either(M a, M b) { return _mm_or_pd(a, b); }
     static R select(M m, R t, R f) { return _mm_or_pd(_mm_and_pd(m, t), _mm_andnot_pd(m, f)); }
+    static constexpr int kWidth = 2;
+    static unsigned bits(M m) { return static_cast<unsigned>(_mm_movemask_pd(m)); }
     static R sign_of(R a) { return _mm_and_pd(a, set1(-0.0)); }
     static R flip(R a, R m) { return _mm_xor_pd(a, m); }
     static void log_split(R x, R& e, R& m) {

@@ -102,8 +102,28 @@ struct TrigKernel {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 
+/// Whether V selects lanes by a sign bit in one instruction (V::by_sign(a, b, m): b where m's sign
+/// bit is set, a where it is not; AVX2's blendv).
+template <class V>
+concept SelectsBySign = requires(typename V::R r) {
+    V::by_sign(r, r, r);
+};
+
+/// t·c for the bound of side t of a coefficient lo ≤ c ≤ hi (tm: t's sign bit): max(t·lo, t·hi),
+/// that is hi where t = +1 and −lo where t = −1 (by V::by_sign where V has it: the same bits, as
+/// no coefficient has lo = hi = 0).
+template <class V>
+[[gnu::always_inline]] inline typename V::R side_coef(double lo, double hi, typename V::R tm) {
+    if constexpr (SelectsBySign<V>) {
+        return V::by_sign(V::set1(hi), V::set1(-lo), tm);
+    } else {
+        return V::max(V::flip(V::set1(lo), tm), V::flip(V::set1(hi), tm));
+    }
+}
+
 /// flip(max(flip(a, m), flip(b, m)), m) for a ≤ b: a where m's sign bit is set, b where it is not
-/// (a select by a sign without a mask).
+/// (a select by a sign without a mask). Not V::by_sign: for a = −0 and b = +0 this gives +0 on
+/// both sides, the scalar walk's bits.
 template <class V>
 [[gnu::always_inline]] inline typename V::R pick(typename V::R a, typename V::R b,
                                                  typename V::R m) {
@@ -115,10 +135,7 @@ template <class V>
 template <class V>
 [[gnu::always_inline]] inline typename V::R trig_horner(typename V::R w, typename V::R tm,
                                                         const double* lo, const double* hi) {
-    // t·(bound of side t of cᵢ): max(t·lo, t·hi).
-    const auto coef = [&](int i) {
-        return V::max(V::flip(V::set1(lo[i]), tm), V::flip(V::set1(hi[i]), tm));
-    };
+    const auto coef = [&](int i) { return side_coef<V>(lo[i], hi[i], tm); };
     typename V::R acc = coef(9);
     for (int i = 8; i >= 0; --i) acc = V::add(coef(i), V::mul(w, acc));  // t·(cᵢ + w·q), up
     return acc;
@@ -151,23 +168,32 @@ template <class V>
     const R r_lo = V::flip(V::add(V::add(V::sub(a, x), V::mul(kd, V::set1(K::kP2))), slack), mz);
     // cos r, decreasing in r²: side t at the least r² rounded down (t = +1) or the greatest rounded
     // up (t = −1).
-    const R most = V::max(V::flip(r_lo, mz), r_hi);
-    const R least = V::max(V::set1(0.0), V::max(r_lo, V::flip(r_hi, mz)));
-    const R w_hi = V::mul(most, most);
-    const R w_lo = V::flip(V::mul(V::flip(least, mz), least), mz);
-    const R cos_r = trig_horner<V>(pick<V>(w_lo, w_hi, ntm), tm, K::kCosLo, K::kCosHi);
+    const auto cos_r = [&] {
+        const R most = V::max(V::flip(r_lo, mz), r_hi);
+        const R least = V::max(V::set1(0.0), V::max(r_lo, V::flip(r_hi, mz)));
+        const R w_hi = V::mul(most, most);
+        const R w_lo = V::flip(V::mul(V::flip(least, mz), least), mz);
+        return trig_horner<V>(pick<V>(w_lo, w_hi, ntm), tm, K::kCosLo, K::kCosHi);
+    };
     // sin r, increasing: side t at r_hi (t = +1) or r_lo, = sign(r_t)·|r_t|·S(r_t²), so S's side is
     // t′ = t·sign(r_t): at r_t² rounded down (t′ = +1) or up.
-    const R rt = pick<V>(r_lo, r_hi, tm);
-    const R rsign = V::sign_of(rt);
-    const R abs_rt = V::flip(rt, rsign);
-    const R tpm = V::flip(tm, rsign);
-    const R v_hi = V::mul(abs_rt, abs_rt);
-    const R v_lo = V::flip(V::mul(V::flip(abs_rt, mz), abs_rt), mz);
-    const R sin_s =
-        trig_horner<V>(pick<V>(v_lo, v_hi, V::flip(tpm, mz)), tpm, K::kSinLo, K::kSinHi);
-    const R sin_r = V::mul(sin_s, abs_rt);  // t′·S·|r_t| = t·sin-bound, rounded up
-    return V::select(odd, cos_r, sin_r);
+    const auto sin_r = [&] {
+        const R rt = pick<V>(r_lo, r_hi, tm);
+        const R rsign = V::sign_of(rt);
+        const R abs_rt = V::flip(rt, rsign);
+        const R tpm = V::flip(tm, rsign);
+        const R v_hi = V::mul(abs_rt, abs_rt);
+        const R v_lo = V::flip(V::mul(V::flip(abs_rt, mz), abs_rt), mz);
+        const R sin_s =
+            trig_horner<V>(pick<V>(v_lo, v_hi, V::flip(tpm, mz)), tpm, K::kSinLo, K::kSinHi);
+        return V::mul(sin_s, abs_rt);  // t′·S·|r_t| = t·sin-bound, rounded up
+    };
+    // Lanes of one parity (near points, the usual case) need one of the two polynomials; each
+    // lane's value is the same either way.
+    const unsigned h = V::bits(odd);
+    if (h == (1u << V::kWidth) - 1) return cos_r();
+    if (h == 0) return sin_r();
+    return V::select(odd, cos_r(), sin_r());
 }
 
 /// [lo, hi] per lane ⊇ sin([l, u]) (sine) or cos([l, u]), for l ≤ u with trig_kernel_applies (see
