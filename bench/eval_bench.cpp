@@ -19,9 +19,6 @@
 // (d) outside Google Benchmark (skipped with --no_ops): the batch walk's cost per instruction on
 //     synthetic chains of 1,000 instructions of one kind, per copy (what a Const, a unary op, a
 //     result that must be stored cost).
-// (f) with (d), outside Google Benchmark: the interval batch walk's cost per instruction and lane,
-//     on 500 independent instructions of one kind over 8 and 64 lanes (the copy chosen for this
-//     CPU), operands in narrow intervals where each op is defined.
 // (e) `ibatch-scalar/<scene>`: detail::run<UpInterval> box by box inside one RoundingScope (the
 //     certified renderer's walk); `ibatch-<n>/<scene>`: run_interval_batch over n boxes per walk
 //     (expr/eval_interval_batch.h, the copy chosen for this CPU), `ibatch-ssa-<n>/<scene>` the
@@ -30,6 +27,9 @@
 //     each copy; 128 boxes of side 2^-6 centred in [-1, 1]^3 per pass, on Barth's sextic
 //     (scenes/barth_sextic.vm), bear and colonnade (scenes/fidget/); CPU ns per box and the
 //     ratio scalar / batch, in table (e).
+// (f) with (d), outside Google Benchmark: the interval batch walk's cost per instruction and lane,
+//     on 500 independent instructions of one kind over 8 and 64 lanes (the copy chosen for this
+//     CPU), operands in narrow intervals where each op is defined.
 // The custom main prints the tables (CPU time; ratios from times of this process).
 // Results and the command that produced them: docs/benchmarks.md, "Expression evaluation (issue
 // 3)".
@@ -539,9 +539,10 @@ void bm_ibatch_scalar(benchmark::State& state, const BoxScene* s) {
 }
 
 /// run_interval_batch over `lanes` boxes per walk (the inputs set once, outside the timing), on
-/// the copy `isa` (none: the one chosen for this CPU).
+/// the copy `isa` (none: the one chosen for this CPU), over the tape's registers or (`ssa`) its
+/// SSA form.
 void bm_ibatch(benchmark::State& state, const BoxScene* s, int lanes,
-               std::optional<expr::BatchIsa> isa, bool ssa = false) {
+               std::optional<expr::BatchIsa> isa, bool ssa) {
     const int groups = kIbatchBoxes / lanes;
     std::vector<std::array<expr::IntervalLanes, 3>> in(groups);
     for (int i = 0; i < kIbatchBoxes; ++i) {

@@ -109,9 +109,20 @@ concept SelectsBySign = requires(typename V::R r) {
     V::by_sign(r, r, r);
 };
 
+/// Whether side_coef's blend gives the bits of max(t·lo, t·hi) for each pair of a table: lo ≤ hi
+/// and not both zero (where the max would take the sign of −hi's zero).
+constexpr bool blend_gives_max(const double* lo, const double* hi, int n) {
+    for (int i = 0; i < n; ++i) {
+        if (!(lo[i] <= hi[i]) || (lo[i] == 0 && hi[i] == 0)) return false;
+    }
+    return true;
+}
+static_assert(blend_gives_max(TrigKernel::kCosLo, TrigKernel::kCosHi, 10));
+static_assert(blend_gives_max(TrigKernel::kSinLo, TrigKernel::kSinHi, 10));
+
 /// t·c for the bound of side t of a coefficient lo ≤ c ≤ hi (tm: t's sign bit): max(t·lo, t·hi),
-/// that is hi where t = +1 and −lo where t = −1 (by V::by_sign where V has it: the same bits, as
-/// no coefficient has lo = hi = 0).
+/// that is hi where t = +1 and −lo where t = −1 (by V::by_sign where V has it: the same bits for
+/// the tables blend_gives_max accepts).
 template <class V>
 [[gnu::always_inline]] inline typename V::R side_coef(double lo, double hi, typename V::R tm) {
     if constexpr (SelectsBySign<V>) {
