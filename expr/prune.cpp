@@ -45,11 +45,11 @@ constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 /// operands' (the rules of prune.h); `v[s · Stride]` is slot s's enclosure.
 template <std::size_t Stride>
 [[gnu::always_inline]] inline Keep decide(const Instr& in, unsigned info, const UpInterval* v,
-                                          std::size_t stride) {
+                                          std::size_t stride, unsigned fold) {
     const std::size_t step = Stride != 0 ? Stride : stride;
     const UpInterval& out = v[in.out * step];
     // One rarely taken branch (a point enclosure of an op that is not already a constant).
-    const unsigned point = unsigned{out.lower() == out.upper()} & (info / kFoldable);
+    const unsigned point = unsigned{out.lower() == out.upper()} & (info / kFoldable) & fold;
     if (point != 0) [[unlikely]] {
         if (out.defined && std::isfinite(out.lower())) return kConstant;
     }
@@ -124,6 +124,7 @@ bool prune_walk(const std::vector<Instr>& ssa, const UpInterval* values, PruneWo
     std::size_t pos = n;      // emitted[pos, n) is the output list so far, written back to front
     std::uint32_t count = 1;  // slots of the output list handed out (0: the output)
     bool changed = false;
+    const unsigned fold = ws.fold_points ? 1u : 0u;
     bind[ssa[n - 1].out] = 0;
     // The slot of the output list for input slot s, handed out if s is not live yet (without a
     // branch: whether an operand is read elsewhere too is as good as random).
@@ -143,7 +144,7 @@ bool prune_walk(const std::vector<Instr>& ssa, const UpInterval* values, PruneWo
             continue;
         }
         const unsigned info = kInfo[static_cast<int>(in.op)];
-        const Keep k = decide<Stride>(in, info, values, stride);
+        const Keep k = decide<Stride>(in, info, values, stride, fold);
         if (k == kBoth) [[likely]] {
             Instr e = in;
             e.out = slot;

@@ -52,6 +52,12 @@ struct PruneWorkspace {
     /// over the pruned list (7 % of prospero's 2D image, which has no such pattern); the 3D
     /// coherent walk and prune() turn it on.
     bool absolute_values = false;
+    /// Make a subexpression whose enclosure over the box is one point that constant (see the file
+    /// contract). Off: kept, so that the pruned list's derivatives stay f's at the box's points
+    /// wherever its choices are strict — a constant has none, and on a box of zero width in an axis
+    /// (a heightmap ray's box is a point in x and y) that axis's variable is one point. The 3D
+    /// coherent walk turns it off: its hits' normals are the gradients of its lists.
+    bool fold_points = true;
     std::vector<std::uint32_t> alias;   ///< per slot of the output: the slot it copies, or itself
     std::vector<std::uint32_t> neg_of;  ///< per slot of the output: x when it is −x, else none
 };

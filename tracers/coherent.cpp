@@ -24,6 +24,7 @@
 
 #include "expr/derived.h"
 #include "expr/eval.h"
+#include "expr/eval_dual_batch.h"
 #include "expr/eval_interval_batch.h"
 #include "expr/prune.h"
 #include "expr/tangent.h"
@@ -147,6 +148,10 @@ expr::Tape tape_of(const Ssa& list) {
     return expr::Tape::from_ssa(std::move(ssa));
 }
 
+/// Hits waiting for their normals (Walker::flush_normals): fewer take a Dual walk each (a walk of
+/// lanes costs more for one or two points: measured on the gyroid).
+constexpr int kFewNormals = 3;
+
 /// One thread's walk: root tiles in, answers written to the image's pixels.
 class Walker {
   public:
@@ -179,6 +184,7 @@ class Walker {
         solid_options_.hit_width = certified_.hit_width;
         solid_options_.hit_width_absolute = certified_.hit_width_absolute;
         prune_ws_.absolute_values = true;
+        prune_ws_.fold_points = false;  // the lists' gradients are the hits' normals
     }
 
     /// Answers every pixel of the root tile r.
@@ -285,9 +291,20 @@ class Walker {
     void spend(unsigned i, unsigned j, const EvalCounts& e);
     /// Writes the answer `res` of pixel (i, j) on its ray and closes the pixel.
     /// A Hit's normal is the gradient of `list` at the hit when its t lies in [a, b] (`list`
-    /// equals f there: the pruned list of the node that answered it), else of the full tape.
+    /// equals f there, and so do its derivatives: the walk prunes without folding points,
+    /// PruneWorkspace::fold_points), else of the full tape. Where `list` is the list of the scan in
+    /// progress (defer_list_) and batch_normals is on, the normal waits for flush_normals(),
+    /// with the scan's other hits.
     void answer(unsigned i, unsigned j, Px& p, const RayResult& res, const Ssa& list, double a,
                 double b);
+    /// The normals of the hits answer() left waiting: one walk of Dual<double, 3> lanes of their
+    /// list over their points (expr/eval_dual_batch.h: each the same bits as a walk of its own).
+    void flush_normals();
+    /// Writes pixel k's normal from the gradient g, turned to face the ray's direction d (in
+    /// round-to-nearest).
+    void set_normal(std::size_t k, const Vec3& g, const Vec3& d);
+    /// The gradient of `list` at q, by a Dual<double, 3> walk (in round-to-nearest).
+    Dual<double, 3> list_gradient(const Ssa& list, const Vec3& q);
 
     const expr::Tape& tape_;
     const CoherentOptions& options_;
@@ -345,6 +362,17 @@ class Walker {
     std::vector<UpInterval> centre_;
     std::vector<UpInterval> scan_;       ///< scan()'s registers
     std::vector<Dual<double, 3>> grad_;  ///< answer()'s registers
+    /// The list of the scan in progress (its content does not change before the scan returns:
+    /// deeper levels prune into their own lists), and that of the hits waiting for their normals.
+    const Ssa* defer_list_ = nullptr;
+    const Ssa* pending_list_ = nullptr;
+    /// The hits waiting for their normals (flush_normals).
+    std::size_t pending_px_[expr::kDualLanes];           ///< their pixels
+    double pending_t_[expr::kDualLanes];                 ///< their hits' parameters
+    const Ray* pending_ray_[expr::kDualLanes];           ///< their rays (the pixels')
+    std::array<double, 3> pending_q_[expr::kDualLanes];  ///< flush_normals()'s points
+    int pending_ = 0;
+    std::vector<expr::DualLanes> dual_regs_;  ///< flush_normals()'s registers
     /// The width a piece of scan() may have: certified_'s absolute width, or its relative width
     /// times the parameter (0: no scan).
     double piece_width(const Ray& s) const {
@@ -661,6 +689,7 @@ void Walker::tile(const Rect& r) {
         // and the normals open a NearestScope of their own.
         RoundingScope up;
         node(r, a, b, tape_.ssa(), &tape_, 0);
+        flush_normals();  // before the tile's rays go
     }
     // Open rays left are proven free of zeros on their whole segment: Misses (the default).
 }
@@ -972,6 +1001,17 @@ void Walker::eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxe
 
 bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
                            const expr::Tape* tape, Level& level, unsigned depth, const Hull& hull) {
+    // The hits of this scan wait for their normals until it returns (a nested scan's own hits
+    // until that one returns).
+    struct Defer {
+        Walker& w;
+        const Ssa* outer;
+        ~Defer() {
+            w.flush_normals();
+            w.defer_list_ = outer;
+        }
+    } defer{*this, defer_list_};
+    defer_list_ = options_.batch_normals ? &list : nullptr;
     // The rays' segments; none scanned if one is too long.
     segments_.clear();
     double w_tile = kInf;  // the narrowest piece width
@@ -1433,23 +1473,67 @@ void Walker::answer(unsigned i, unsigned j, Px& p, const RayResult& res, const S
         out.evals += before;
     }
     if (res.status != Status::Hit) return;
+    const bool on_list = a <= res.t && res.t <= b && list.size() < tape_.size();
+    if (on_list && &list == defer_list_) {
+        if (pending_ > 0 && pending_list_ != &list) flush_normals();
+        pending_list_ = &list;
+        pending_px_[pending_] = k;
+        pending_t_[pending_] = res.t;
+        pending_ray_[pending_] = &ray;  // the root tile's pixel
+        if (++pending_ == expr::kDualLanes) flush_normals();
+        return;
+    }
     NearestInUpward env;  // as render_3d computes the normal (the walk holds its upward scope)
     const Vec3 q{ray.o[0] + res.t * ray.d[0], ray.o[1] + res.t * ray.d[1],
                  ray.o[2] + res.t * ray.d[2]};
     Dual<double, 3> g;
-    if (a <= res.t && res.t <= b && list.size() < tape_.size()) {
+    if (on_list) {
         // The pruned list, much shorter than the tape (a tenth on Fidget's colonnade).
-        using D = Dual<double, 3>;
-        if (grad_.size() < list.size()) grad_.resize(list.size());
-        expr::detail::run<D>(
-            list, {D::variable(q[0], 0), D::variable(q[1], 1), D::variable(q[2], 2)}, grad_.data());
-        g = grad_[list.back().out];
+        g = list_gradient(list, q);
     } else {
         g = expr::gradient(tape_, q);
     }
-    Vec3 n = normalize({g.v[0], g.v[1], g.v[2]});
-    if (dot(n, ray.d) > 0) n = {-n[0], -n[1], -n[2]};
+    set_normal(k, {g.v[0], g.v[1], g.v[2]}, ray.d);
+}
+
+Dual<double, 3> Walker::list_gradient(const Ssa& list, const Vec3& q) {
+    using D = Dual<double, 3>;
+    if (grad_.size() < list.size()) grad_.resize(list.size());
+    expr::detail::run<D>(list, {D::variable(q[0], 0), D::variable(q[1], 1), D::variable(q[2], 2)},
+                         grad_.data());
+    return grad_[list.back().out];
+}
+
+void Walker::set_normal(std::size_t k, const Vec3& g, const Vec3& d) {  // in round-to-nearest
+    Vec3 n = normalize(g);
+    if (dot(n, d) > 0) n = {-n[0], -n[1], -n[2]};
     ans_.normal[k] = {static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2])};
+}
+
+void Walker::flush_normals() {
+    if (pending_ == 0) return;
+    const Ssa& list = *pending_list_;
+    NearestInUpward env;  // as answer() computes a normal, its normalisation included
+    for (int k = 0; k < pending_; ++k) {
+        const Ray& ray = *pending_ray_[k];
+        const double t = pending_t_[k];
+        pending_q_[k] = {ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1], ray.o[2] + t * ray.d[2]};
+    }
+    if (pending_ < kFewNormals) {
+        for (int k = 0; k < pending_; ++k) {
+            const Dual<double, 3> g = list_gradient(list, pending_q_[k]);
+            set_normal(pending_px_[k], {g.v[0], g.v[1], g.v[2]}, pending_ray_[k]->d);
+        }
+    } else {
+        if (dual_regs_.size() < list.size()) dual_regs_.resize(list.size());
+        expr::run_dual_batch(list.data(), list.data() + list.size(), pending_q_, pending_,
+                             dual_regs_.data());
+        const expr::DualLanes& f = dual_regs_[list.back().out];
+        for (int k = 0; k < pending_; ++k) {
+            set_normal(pending_px_[k], {f.g[0][k], f.g[1][k], f.g[2][k]}, pending_ray_[k]->d);
+        }
+    }
+    pending_ = 0;
 }
 
 }  // namespace

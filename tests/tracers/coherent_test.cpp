@@ -14,11 +14,14 @@
 #include <rapidcheck/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "expr/derived.h"
 #include "expr/load.h"
 #include "expr/parser.h"
 #include "expr/tape.h"
@@ -503,6 +506,48 @@ TEST(Coherent, WideBoxFormsOnSmoothListsKeepTheAnswers) {
             EXPECT_GT(stats.wide_forms, 0u);
         }
     }
+}
+
+/// Hit normals are render_3d's: the unit gradient of the full tape at the hit (expr::gradient,
+/// normalised in round-to-nearest), facing the ray, bit for bit; with batch_normals (16 hits per
+/// walk of Dual lanes) and without. (They were the pruned lists' gradients once, where a
+/// heightmap's single-ray box, a point in x and y, had folded x and y into constants.)
+TEST(Coherent, HitNormalsAreRender3dNormalsBatchedOrNot) {
+    std::size_t hits = 0;
+    for (const fs::path& scene : gallery()) {
+        const expr::Tape tape(expr::load_graph_file(scene.string()));
+        for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
+            for (bool batch : {true, false}) {
+                CoherentOptions o = small_view(p);
+                o.depth_pixels = 0.5;  // scans of rays in lanes, as the CLI's images
+                o.batch_normals = batch;
+                const RenderResult r = render_3d_coherent(tape, o);
+                const PixelRays rays(o);
+                std::size_t k = 0;
+                for (unsigned j = 0; j < o.render.height; ++j) {
+                    for (unsigned i = 0; i < o.render.width; ++i, ++k) {
+                        if (r.answers.status[k] != Status::Hit) continue;
+                        ++hits;
+                        Ray ray;
+                        ASSERT_TRUE(rays.ray(i, j, ray));
+                        const double t = r.answers.t[k];
+                        const Vec3 q{ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1],
+                                     ray.o[2] + t * ray.d[2]};
+                        const Dual<double, 3> g = expr::gradient(tape, q);
+                        Vec3 want = normalize({g.v[0], g.v[1], g.v[2]});
+                        if (dot(want, ray.d) > 0) want = {-want[0], -want[1], -want[2]};
+                        for (int c = 0; c < 3; ++c) {
+                            EXPECT_EQ(std::bit_cast<std::uint32_t>(r.answers.normal[k][c]),
+                                      std::bit_cast<std::uint32_t>(static_cast<float>(want[c])))
+                                << scene << (batch ? " batched" : "") << " pixel (" << i << ", "
+                                << j << ") component " << c;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    EXPECT_GT(hits, 1000u);
 }
 
 TEST(Coherent, OrthoRaysAreTheHeightmapRays) {

@@ -22,6 +22,7 @@
 #include "expr/graph.h"
 #include "expr/prune.h"
 #include "expr/tape.h"
+#include "interval/dual.h"
 #include "interval/interval.h"
 #include "interval/mpfr_interval.h"
 #include "tests/support/generators.h"
@@ -313,6 +314,41 @@ TEST(PruneSsa, APointEnclosureBecomesAConstant) {
                             [](const Instr& in) { return in.op == Op::Const && in.imm == 2.0; }),
               1);
     EXPECT_EQ(at(out, {4.0, 0.5, 0.0}), 1.0);
+}
+
+TEST(PruneSsa, WithoutFoldingPointsAPrunedListKeepsTheDerivatives) {
+    // max(sqrt(x) · y, y − 10) on x = 4 (a degenerate box, as a heightmap ray's), y ∈ [−1, 1]:
+    // the max keeps sqrt(x) · y ∈ [−2, 2] (y − 10 ≤ −9). Without folding sqrt(x) to 2, the
+    // list's gradient at (4, 1/2, 0) is f's: (y/(2√x), √x, 0) = (1/8, 2, 0).
+    Graph g;
+    const NodeId y = g.var(1);
+    g.set_output(g.binary(Op::Max, g.binary(Op::Mul, g.unary(Op::Sqrt, g.var(0)), y),
+                          g.binary(Op::Sub, y, g.constant(10.0))));
+    const Tape t(g);
+    const Box b{{{4.0, 4.0}, {-1.0, 1.0}, {0.0, 0.0}}};
+    bool finite = false;
+    const std::vector<UpInterval> v = enclose(t.ssa(), b, finite);
+    PruneWorkspace ws;
+    ws.fold_points = false;
+    Ssa out;
+    ASSERT_TRUE(prune_ssa(t.ssa(), v.data(), ws, out));
+    EXPECT_TRUE(well_formed(out));
+    EXPECT_EQ(
+        std::count_if(out.begin(), out.end(), [](const Instr& in) { return in.op == Op::Max; }), 0);
+    using D = Dual<double, 3>;
+    std::vector<D> r(out.size());
+    detail::run<D>(out, {D::variable(4.0, 0), D::variable(0.5, 1), D::variable(0.0, 2)}, r.data());
+    const D& f = r[out.back().out];
+    EXPECT_EQ(f.a, 1.0);
+    EXPECT_EQ(f.v[0], 0.125);
+    EXPECT_EQ(f.v[1], 2.0);
+    EXPECT_EQ(f.v[2], 0.0);
+    // Folded (the default), sqrt(x) is the constant 2 and ∂/∂x is lost.
+    PruneWorkspace folding;
+    ASSERT_TRUE(prune_ssa(t.ssa(), v.data(), folding, out));
+    r.assign(out.size(), D{});
+    detail::run<D>(out, {D::variable(4.0, 0), D::variable(0.5, 1), D::variable(0.0, 2)}, r.data());
+    EXPECT_EQ(r[out.back().out].v[0], 0.0);
 }
 
 TEST(PruneSsa, MaxOfXAndMinusXBecomesAbsoluteValue) {
