@@ -46,8 +46,9 @@ void put(DualLanes& x, int k, const D3& d) {
 }
 
 /// Four lanes of doubles (GCC's generic vectors: IEEE operations lane by lane, two SSE2 or one
-/// AVX instruction each). DualLanes' arrays are 64-byte aligned and kDualLanes is a multiple of 4.
-using V4 = double __attribute__((vector_size(32)));
+/// AVX instruction each; may alias the doubles it is read from). DualLanes' arrays are 64-byte
+/// aligned and kDualLanes is a multiple of 4.
+using V4 = double __attribute__((vector_size(32), __may_alias__));
 static_assert(kDualLanes % 4 == 0);
 V4* vec(double* x) { return reinterpret_cast<V4*>(x); }
 const V4* vec(const double* x) { return reinterpret_cast<const V4*>(x); }
@@ -63,8 +64,8 @@ const V4* vec(const double* x) { return reinterpret_cast<const V4*>(x); }
 [[gnu::always_inline]] inline void walk(const Instr* in, const Instr* const end,
                                         const std::array<double, 3>* p, int n, DualLanes* r) {
     using certray::cos, certray::exp, certray::log, certray::sin, certray::sqrt;
-    alignas(64) double d[L];
-    const int nc = (n + 3) / 4;  // vectors of lanes; lanes from n on are computed, never read
+    alignas(64) double d[L] = {};  // lanes from n on stay 0 where libm fills only n
+    const int nc = (n + 3) / 4;    // vectors of lanes; lanes from n on are computed, never read
     for (; in != end; ++in) {
         DualLanes& o = r[in->out];
         const int k_ary = arity(in->op);
