@@ -689,7 +689,6 @@ void Walker::tile(const Rect& r) {
         // and the normals open a NearestScope of their own.
         RoundingScope up;
         node(r, a, b, tape_.ssa(), &tape_, 0);
-        flush_normals();  // before the tile's rays go
     }
     // Open rays left are proven free of zeros on their whole segment: Misses (the default).
 }

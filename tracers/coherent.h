@@ -128,9 +128,10 @@ struct CoherentOptions {
     /// (solid), or lies between pieces of strict opposite signs (zero set), is answered without
     /// pieces of its own. Off: each ray's own pieces only.
     bool tile_pieces = true;
-    /// A hit's normal is the gradient of the full tape at the hit, as render_3d computes it. On:
-    /// the hits of a root tile get theirs 16 at a time, from one walk of Dual<double, 3> lanes
-    /// (expr/eval_dual_batch.h), each the same bits as a walk of its own. Off: a walk per hit.
+    /// A hit's normal is the gradient at the hit of the pruned list that answered it. On: the hits
+    /// of one scan in lanes get theirs together once the scan returns (16 at most per walk), from
+    /// one walk of Dual<double, 3> lanes (expr/eval_dual_batch.h), each the same bits as a walk of
+    /// its own. Off: a Dual<double, 3> walk per hit.
     bool batch_normals = true;
 };
 

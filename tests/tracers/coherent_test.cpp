@@ -509,9 +509,9 @@ TEST(Coherent, WideBoxFormsOnSmoothListsKeepTheAnswers) {
 }
 
 /// Hit normals are render_3d's: the unit gradient of the full tape at the hit (expr::gradient,
-/// normalised in round-to-nearest), facing the ray, bit for bit; with batch_normals (16 hits per
-/// walk of Dual lanes) and without. (They were the pruned lists' gradients once, where a
-/// heightmap's single-ray box, a point in x and y, had folded x and y into constants.)
+/// normalised in round-to-nearest), facing the ray, bit for bit; with batch_normals (a scan's hits
+/// in one walk of Dual lanes) and without. (They come from the pruned lists, whose pruning once
+/// folded a heightmap ray's x and y, points on its box, into constants without derivatives.)
 TEST(Coherent, HitNormalsAreRender3dNormalsBatchedOrNot) {
     std::size_t hits = 0;
     for (const fs::path& scene : gallery()) {

@@ -231,13 +231,13 @@ RC_GTEST_PROP(PruneSsa, QuadLaneEvaluatesAndPrunesAsAScalarWalk, ()) {
     }
 }
 
-/// The list of `g` pruned to the box `b` (which must drop something).
-Ssa pruned(const Ssa& list, const Box& b) {
+/// The list pruned to the box `b` with the settings of `ws` (which must drop something).
+Ssa pruned(const Ssa& list, const Box& b, PruneWorkspace ws = {}) {
     bool finite = false;
     const std::vector<UpInterval> v = enclose(list, b, finite);
-    PruneWorkspace ws;
     Ssa out;
     EXPECT_TRUE(prune_ssa(list, v.data(), ws, out));
+    EXPECT_TRUE(well_formed(out));
     return out;
 }
 
@@ -326,29 +326,25 @@ TEST(PruneSsa, WithoutFoldingPointsAPrunedListKeepsTheDerivatives) {
                           g.binary(Op::Sub, y, g.constant(10.0))));
     const Tape t(g);
     const Box b{{{4.0, 4.0}, {-1.0, 1.0}, {0.0, 0.0}}};
-    bool finite = false;
-    const std::vector<UpInterval> v = enclose(t.ssa(), b, finite);
-    PruneWorkspace ws;
-    ws.fold_points = false;
-    Ssa out;
-    ASSERT_TRUE(prune_ssa(t.ssa(), v.data(), ws, out));
-    EXPECT_TRUE(well_formed(out));
+    const auto gradient_at = [](const Ssa& list) {
+        using D = Dual<double, 3>;
+        std::vector<D> r(list.size());
+        detail::run<D>(list, {D::variable(4.0, 0), D::variable(0.5, 1), D::variable(0.0, 2)},
+                       r.data());
+        return r[list.back().out];
+    };
+    PruneWorkspace no_folding;
+    no_folding.fold_points = false;
+    const Ssa out = pruned(t.ssa(), b, no_folding);
     EXPECT_EQ(
         std::count_if(out.begin(), out.end(), [](const Instr& in) { return in.op == Op::Max; }), 0);
-    using D = Dual<double, 3>;
-    std::vector<D> r(out.size());
-    detail::run<D>(out, {D::variable(4.0, 0), D::variable(0.5, 1), D::variable(0.0, 2)}, r.data());
-    const D& f = r[out.back().out];
+    const Dual<double, 3> f = gradient_at(out);
     EXPECT_EQ(f.a, 1.0);
     EXPECT_EQ(f.v[0], 0.125);
     EXPECT_EQ(f.v[1], 2.0);
     EXPECT_EQ(f.v[2], 0.0);
     // Folded (the default), sqrt(x) is the constant 2 and ∂/∂x is lost.
-    PruneWorkspace folding;
-    ASSERT_TRUE(prune_ssa(t.ssa(), v.data(), folding, out));
-    r.assign(out.size(), D{});
-    detail::run<D>(out, {D::variable(4.0, 0), D::variable(0.5, 1), D::variable(0.0, 2)}, r.data());
-    EXPECT_EQ(r[out.back().out].v[0], 0.0);
+    EXPECT_EQ(gradient_at(pruned(t.ssa(), b)).v[0], 0.0);
 }
 
 TEST(PruneSsa, MaxOfXAndMinusXBecomesAbsoluteValue) {
@@ -371,12 +367,9 @@ TEST(PruneSsa, MaxOfXAndMinusXBecomesAbsoluteValue) {
                              [](const Instr& in) { return in.op == Op::Abs; });
     };
     EXPECT_EQ(abs_count(pruned(t.ssa(), b)), 0);  // off by default
-    const std::vector<UpInterval> v = enclose(t.ssa(), b, finite);
     PruneWorkspace ws;
     ws.absolute_values = true;
-    Ssa out;
-    ASSERT_TRUE(prune_ssa(t.ssa(), v.data(), ws, out));
-    EXPECT_TRUE(well_formed(out));
+    const Ssa out = pruned(t.ssa(), b, ws);
     EXPECT_EQ(abs_count(out), 1);
     const Interval f = output(out, enclose(out, b, finite));
     EXPECT_EQ(f.lower(), 0.0);
