@@ -17,7 +17,9 @@
 // several rays at once (together/px), and the image's hit/miss/unknown counts. Command:
 // build/bench/coherent_bench [--benchmark_filter=…]; results in docs/benchmarks.md, "Coherent
 // certified rendering". BM_Cone: the Lipschitz tracers with and without the cone march
-// (docs/benchmarks.md, "Cone marching for the Lipschitz tracers").
+// (docs/benchmarks.md, "Cone marching for the Lipschitz tracers"). BM_Option: the gallery's
+// smooth scenes with and without one CoherentOptions switch, for interleaved runs
+// (docs/benchmarks.md, "Segment forms, and where Barth's evaluations go").
 #include <benchmark/benchmark.h>
 
 #include <string>
@@ -215,6 +217,67 @@ BENCHMARK(BM_PerRay)
     ->MeasureProcessCPUTime()
     ->UseRealTime()
     ->Iterations(1);
+
+/// The smooth scenes of the gallery (tangent lists without kinks), over their files' bounds.
+const Scene kSmooth[] = {{CERTRAY_SCENES_DIR "/barth_sextic.vm", -2, 2},
+                         {CERTRAY_SCENES_DIR "/chmutov6.vm", -1.2, 1.2},
+                         {CERTRAY_SCENES_DIR "/clebsch_cubic.vm", -2, 2},
+                         {CERTRAY_SCENES_DIR "/kummer_quartic.vm", -3, 3},
+                         {CERTRAY_SCENES_DIR "/mitchell.vm", -2.5, 2.5},
+                         {CERTRAY_SCENES_DIR "/steiner_roman.vm", -1, 1},
+                         {CERTRAY_SCENES_DIR "/tangle_knoll.vm", -3, 3},
+                         {CERTRAY_SCENES_DIR "/tanglecube.vm", -4.5045, 4.5045},
+                         {CERTRAY_SCENES_DIR "/blobs.expr", -2, 2},
+                         {CERTRAY_SCENES_DIR "/gyroid.expr", -2, 2},
+                         {CERTRAY_SCENES_DIR "/sphere.expr", -2, 2},
+                         {CERTRAY_SCENES_DIR "/torus.expr", -2, 2}};
+
+/// The coherent image of a smooth scene (its zero set, pinhole, framed as `certray render` frames
+/// it, the image options, 2 threads) with and without one option, to be run with
+/// --benchmark_enable_random_interleaving and repetitions: the two of each scene then alternate in
+/// one process. Arguments: scene (kSmooth), side, option (0 segment_forms), on.
+void BM_Option(benchmark::State& state) {
+    static std::vector<expr::Tape> tapes = [] {
+        std::vector<expr::Tape> t;
+        for (const Scene& s : kSmooth) t.emplace_back(expr::load_graph_file(s.path));
+        return t;
+    }();
+    const Scene& sc = kSmooth[state.range(0)];
+    const expr::Tape& tape = tapes[static_cast<std::size_t>(state.range(0))];
+    const unsigned side = static_cast<unsigned>(state.range(1));
+    tracers::CoherentOptions o;
+    o.depth_pixels = 0.5;
+    o.render.width = o.render.height = side;
+    for (auto& a : o.render.bounds) a = {sc.lo, sc.hi};
+    const std::vector<tracers::Box3> cells = tracers::surface_cells(tape, o.render.bounds);
+    const auto extent = tracers::hull(cells);
+    o.render.camera = extent ? tracers::frame_boxes(cells, *extent, 35, 1.0)
+                             : tracers::frame_box(o.render.bounds, 35, 1.0);
+    o.render.threads = 2;
+    const bool on = state.range(3) != 0;
+    switch (state.range(2)) {
+        case 0:
+            o.segment_forms = on;
+            break;
+        default:
+            state.SkipWithError("unknown option");
+            return;
+    }
+    tracers::RenderResult r;
+    for (auto _ : state) {
+        r = tracers::render_3d_coherent(tape, o);
+        benchmark::DoNotOptimize(r.stats.hit);
+    }
+    report(state, r, static_cast<double>(side) * side);
+}
+
+// Arguments: scene (kSmooth), side, option (0 segment_forms), on.
+BENCHMARK(BM_Option)
+    ->ArgNames({"scene", "side", "option", "on"})
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}, {512}, {0}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
 /// The Lipschitz tracers' images with and without the cone march (tracers/cone.h): `certray render
 /// --method M` and `--per-ray`. Arguments: scene, side, method (0 sphere, 1 enhanced, 2 bvh),

@@ -263,13 +263,30 @@ class Walker {
     UpInterval mean_value(const Ssa& list, double a, double b, const double* olo, const double* ohi,
                           const double* dlo, const double* dhi,
                           const expr::TangentList* tl = nullptr);
-    /// What an enclosure F of f over a box proves for the surface asked for.
-    enum class Proof { None, Excluded, Inside };
+    /// What an enclosure F of f over a box proves for the surface asked for (Unusable: a form
+    /// that does not apply, segment_form).
+    enum class Proof { None, Excluded, Inside, Unusable };
     Proof proof(const UpInterval& f) const {
         if (!solid_) return possibly_zero(f) ? Proof::None : Proof::Excluded;
         // f ≥ 0 wherever it is defined on the box: no point of the solid {f defined, f < 0}.
         if (f.is_empty() || f.lower() >= 0) return Proof::Excluded;
         return f.defined && f.upper() < 0 ? Proof::Inside : Proof::None;
+    }
+    /// What the mean value form in t proves on the segment [p, q] of one ray, from its lanes of a
+    /// tangent list's walk: e the enclosure of f over the segment's box, g1 that of the derivative
+    /// along the ray there, m that of f at the middle of [p, q]; Unusable (nothing counted) when
+    /// the form does not apply (f not proven defined and continuous on the box, or G′ unbounded),
+    /// else its evaluations counted in res.
+    Proof segment_form(const UpInterval& e, const UpInterval& g1, const UpInterval& m, double p,
+                       double q, RayResult& res) const {
+        if (!e.defined || g1.is_empty() || !std::isfinite(g1.lower()) ||
+            !std::isfinite(g1.upper()) || m.is_empty() || !m.defined) {
+            return Proof::Unusable;
+        }
+        ++res.evals.gradient;
+        ++res.evals.interval;
+        const UpInterval t(p, q);
+        return proof(m + g1 * (t - UpInterval(midpoint(t))));
     }
     /// For a scanned piece [p, q] of s that the plain enclosure and the point tests left
     /// undecided: what the mean value form in t proves on it (None if it does not apply), its
@@ -326,6 +343,10 @@ class Walker {
     /// proved at least half the pieces they were taken on): the first 4, then one in 16 (the
     /// molecule's forms prove 16% of such pieces, the bear's 67%).
     PayingTrial<4, 16> kink_forms_;
+    /// This root tile's segment forms (scan_together, CoherentOptions::segment_forms; a win: the
+    /// pieces of the segments they proved free cost more than the forms): the first 4, then
+    /// while half of them win, else one in 16.
+    PayingTrial<4, 16, 2> segment_forms_;
     /// Whether to try the mean value form on a box of `count` rays whose list is `list` (kept
     /// at `depth`): beyond 16 rays only where the list has a tangent list without kinks, which
     /// gives the form from five lanes.
@@ -383,6 +404,12 @@ class Walker {
     static constexpr std::size_t kLongList = 200;
     /// At most this many pieces a leaf segment is scanned in; longer ones go to the solver.
     static constexpr int kMaxPieces = 8;
+    /// A segment of at least this many pieces gets its segment form (CoherentOptions::
+    /// segment_forms).
+    static constexpr int kSegmentFormPieces = 4;
+    /// ... and a list of at least this many instructions (the sphere's 11 and the colonnade's
+    /// pruned lists of about 10 took 2–10% longer with them).
+    static constexpr std::size_t kSegmentFormList = 16;
     /// scan_together()'s lanes: the boxes, their enclosures, and per lane the ray's pixel and
     /// the piece [p, q].
     std::vector<LaneBox> lanes_;
@@ -658,6 +685,7 @@ void Walker::tile(const Rect& r) {
     wide_forms_.reset();
     tile_trial_.reset();
     kink_forms_.reset();
+    segment_forms_.reset();
     px_.assign(std::size_t{r.w} * r.h, Px{});
     for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {  // a miss until answered
         const std::size_t row = std::size_t{j} * ans_.width;
@@ -1062,7 +1090,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         return v.lower() > 0 ? 1 : v.upper() < 0 ? -1 : 0;
     };
 
-    // The pieces of every ray not decided by the tile pieces, as scan() cuts them.
+    // Each ray's segment after the tile pieces.
     pieces_.clear();
     level.scanned.clear();
     std::size_t decided = 0;  // rays the tile pieces answered
@@ -1107,19 +1135,81 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
                 s.tmin = s.tmax;  // every piece it meets proven free: Miss on [a, b]
             }
         }
-        const std::size_t begin = pieces_.size();
-        if (res.status == Status::Miss && s.tmin < s.tmax) {
-            const double w = piece_width(s);
-            const int n = pieces_of(s, w);
-            if (tiles > 0) saved -= n;
-            for (int k = 0; k < n; ++k) {
-                const auto [lo, hi] = piece(s, w, k, n);
-                if (lo < hi) pieces_.push_back({g.i, g.j, lo, hi});
-            }
-        }
-        level.scanned.push_back({g.i, g.j, s, res, begin, pieces_.size()});
+        level.scanned.push_back({g.i, g.j, s, res, 0, 0});
     }
     stats.tile_decided += decided;
+    // Segment forms: where the list is smooth, each open ray's whole segment first gets the mean
+    // value form in t, g(c) + G′·(S − c) — G′ ⊇ g′ along the ray over the segment S (a lane of
+    // one walk of the tangent list, which also gives g's plain enclosure over S) and g at its
+    // middle c (a lane of one walk of the list). A segment it proves free needs no pieces: rays
+    // that run beside the surface (grazing it, or between close sheets) are proven so, where
+    // their pieces' plain enclosures are as wide as the box a piece spans. Short lists keep their
+    // pieces: there a walk's cost is mostly its own, not its lanes'.
+    if (options_.segment_forms && list.size() >= kSegmentFormList &&
+        tangent_kind(list, depth) == expr::TangentKind::Smooth && segment_forms_.attempt()) {
+        const expr::TangentList* tl = tangent(list, depth);
+        form_boxes_.clear();
+        points_.clear();
+        dirs_.clear();
+        form_of_.clear();
+        for (std::size_t ray = 0; ray < level.scanned.size(); ++ray) {
+            const Level::Scanned& z = level.scanned[ray];
+            // A form costs about what 4 pieces do (a walk of the tangent list and one of the
+            // list); shorter segments keep their pieces.
+            if (z.res.status != Status::Miss || !(z.s.tmin < z.s.tmax) ||
+                pieces_of(z.s, piece_width(z.s)) < kSegmentFormPieces) {
+                continue;
+            }
+            const Ray& full = px(z.i, z.j).ray;
+            const double tc = midpoint(UpInterval(z.s.tmin, z.s.tmax));
+            form_of_.push_back(ray);
+            form_boxes_.push_back(lane_box(full, z.s.tmin, z.s.tmax));
+            points_.push_back(lane_box(full, tc, tc));
+            dirs_.push_back(full.d);
+        }
+        std::size_t proven = 0, spared = 0;  // segments proven free, and their pieces
+        if (!form_of_.empty()) {
+            // The segments' boxes by the tangent list (g and g′ over each), their middles by the
+            // list itself (a shorter walk).
+            eval_tangent_lanes(*tl, form_boxes_.data(), dirs_.data(), form_boxes_.size(),
+                               lane_values_, lane_slopes_);
+            eval_lanes(list, points_.data(), points_.size(), quarter_points_);
+            for (std::size_t l = 0; l < form_of_.size(); ++l) {
+                Level::Scanned& z = level.scanned[form_of_[l]];
+                const UpInterval& e = lane_values_[l];
+                ++z.res.evals.interval;
+                bool free = proof(e) == Proof::Excluded;
+                if (!free) {
+                    free = segment_form(e, lane_slopes_[l], quarter_points_[l], z.s.tmin, z.s.tmax,
+                                        z.res) == Proof::Excluded;
+                }
+                if (free) {
+                    spared += static_cast<std::size_t>(pieces_of(z.s, piece_width(z.s)));
+                    z.s.tmin = z.s.tmax;  // free on [a, b]: Miss, no pieces
+                    ++proven;
+                }
+            }
+            stats.segment_forms += proven;
+        }
+        // A win: the pieces spared cost a third more than the forms (instructions times lanes;
+        // the forms' walks and bookkeeping cost more than their lanes say).
+        segment_forms_.wins +=
+            3 * spared * list.size() >= 4 * form_of_.size() * (tl->list.size() + list.size());
+    }
+    // The pieces of every ray not decided yet, as scan() cuts them.
+    for (Level::Scanned& z : level.scanned) {
+        z.begin = pieces_.size();
+        if (z.res.status == Status::Miss && z.s.tmin < z.s.tmax) {
+            const double w = piece_width(z.s);
+            const int n = pieces_of(z.s, w);
+            if (tiles > 0) saved -= n;
+            for (int k = 0; k < n; ++k) {
+                const auto [lo, hi] = piece(z.s, w, k, n);
+                if (lo < hi) pieces_.push_back({z.i, z.j, lo, hi});
+            }
+        }
+        z.end = pieces_.size();
+    }
     tile_trial_.wins += tiles > 0 && saved >= 4 * tiles;
     // Every piece's enclosure, in one batched evaluation.
     const std::size_t n = pieces_.size();
@@ -1254,14 +1344,8 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
     // over the piece) and the value at its middle.
     const auto lane_form = [&](const UpInterval& e, const UpInterval& g1, const UpInterval& m,
                                double p, double q, RayResult& res) {
-        if (!e.defined || g1.is_empty() || !std::isfinite(g1.lower()) ||
-            !std::isfinite(g1.upper()) || m.is_empty() || !m.defined) {
-            return Proof::None;
-        }
-        ++res.evals.gradient;
-        ++res.evals.interval;
-        const UpInterval t(p, q);
-        const Proof pr = proof(m + g1 * (t - UpInterval(midpoint(t))));
+        const Proof pr = segment_form(e, g1, m, p, q, res);
+        if (pr == Proof::Unusable) return Proof::None;
         stats.lane_forms += pr != Proof::None;
         ++forms_tried;
         forms_proven += pr != Proof::None;
@@ -1687,6 +1771,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.tile_decided += s.tile_decided;
         total.quarter_pieces += s.quarter_pieces;
         total.wide_forms += s.wide_forms;
+        total.segment_forms += s.segment_forms;
     }
     for (std::size_t k = 0; k < pixels; ++k) {
         st.hit += ans.status[k] == Status::Hit;

@@ -128,6 +128,14 @@ struct CoherentOptions {
     /// (solid), or lies between pieces of strict opposite signs (zero set), is answered without
     /// pieces of its own. Off: each ray's own pieces only.
     bool tile_pieces = true;
+    /// Scans of rays on a smooth list (a tangent list without kinks, expr/tangent.h, of at least
+    /// 16 instructions) first take the mean value form in t over each ray's whole segment (one
+    /// lane of a walk of the tangent list over the segment, one of the list at its middle; for
+    /// segments of at least 4 pieces): a segment it proves free needs no pieces. Tried in each
+    /// root tile while it pays (the first 4 scans, then while half the scans spare pieces worth
+    /// a third more than their forms, one in 16 otherwise). The answers keep their meaning.
+    /// Off: the pieces only.
+    bool segment_forms = true;
     /// A hit's normal is the gradient at the hit of the pruned list that answered it. On: the hits
     /// of one scan in lanes get theirs together once the scan returns (16 at most per walk), from
     /// one walk of Dual<double, 3> lanes (expr/eval_dual_batch.h), each the same bits as a walk of
@@ -157,6 +165,8 @@ struct CoherentStats {
     /// boxes of more than 16 rays that the mean value form proved (CoherentOptions::
     /// mean_value_rays unset, smooth lists)
     std::uint64_t wide_forms = 0;
+    /// rays' leaf segments that their segment form proved free (CoherentOptions::segment_forms)
+    std::uint64_t segment_forms = 0;
     std::uint64_t tape_length = 0;  ///< instructions of the full tape
 };
 
