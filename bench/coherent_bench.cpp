@@ -235,7 +235,8 @@ const Scene kSmooth[] = {{CERTRAY_SCENES_DIR "/barth_sextic.vm", -2, 2},
 /// The coherent image of a smooth scene (its zero set, pinhole, framed as `certray render` frames
 /// it, the image options, 2 threads) with and without one option, to be run with
 /// --benchmark_enable_random_interleaving and repetitions: the two of each scene then alternate in
-/// one process. Arguments: scene (kSmooth), side, option (0 segment_forms), on.
+/// one process. Arguments: scene (kSmooth), side, option (0 segment_forms, 1 monotone_segments),
+/// on.
 void BM_Option(benchmark::State& state) {
     static std::vector<expr::Tape> tapes = [] {
         std::vector<expr::Tape> t;
@@ -259,6 +260,9 @@ void BM_Option(benchmark::State& state) {
         case 0:
             o.segment_forms = on;
             break;
+        case 1:
+            o.monotone_segments = on;
+            break;
         default:
             state.SkipWithError("unknown option");
             return;
@@ -271,10 +275,10 @@ void BM_Option(benchmark::State& state) {
     report(state, r, static_cast<double>(side) * side);
 }
 
-// Arguments: scene (kSmooth), side, option (0 segment_forms), on.
+// Arguments: scene (kSmooth), side, option (0 segment_forms, 1 monotone_segments), on.
 BENCHMARK(BM_Option)
     ->ArgNames({"scene", "side", "option", "on"})
-    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}, {512}, {0}, {0, 1}})
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}, {512}, {0, 1}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime();

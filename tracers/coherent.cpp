@@ -288,6 +288,16 @@ class Walker {
         const UpInterval t(p, q);
         return proof(m + g1 * (t - UpInterval(midpoint(t))));
     }
+    /// Writes a Hit [lo, hi] into res.
+    static void hit_of(RayResult& res, double lo, double hi) {
+        res.status = Status::Hit;
+        res.t_lo = lo;
+        res.t_hi = hi;
+        res.t = 0.5 * lo + 0.5 * hi;
+    }
+    static bool finite(const UpInterval& v) {
+        return !v.is_empty() && std::isfinite(v.lower()) && std::isfinite(v.upper());
+    }
     /// For a scanned piece [p, q] of s that the plain enclosure and the point tests left
     /// undecided: what the mean value form in t proves on it (None if it does not apply), its
     /// evaluations counted in res.
@@ -435,6 +445,16 @@ class Walker {
         double tmin, tmax;
     };
     std::vector<Segment> segments_;
+    /// scan_together()'s strictly monotone segments (CoherentOptions::monotone_segments): the
+    /// ray (in level.scanned), its bracket [lo, hi] and g's strict sign at lo (the solid: 1, for
+    /// g(lo) ≥ 0).
+    struct Monotone {
+        std::size_t ray;
+        double lo, hi;
+        int sign;
+        bool decreasing;  ///< g′ < 0 on the segment (else > 0)
+    };
+    std::vector<Monotone> monotone_;
     /// scan_together()'s tile pieces: their boxes, enclosures and ends (piece k is
     /// [tile_t_[k], tile_t_[k + 1]]).
     std::vector<LaneBox> tile_boxes_;
@@ -1168,6 +1188,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
             dirs_.push_back(full.d);
         }
         std::size_t proven = 0, spared = 0;  // segments proven free, and their pieces
+        monotone_.clear();
         if (!form_of_.empty()) {
             // The segments' boxes by the tangent list (g and g′ over each), their middles by the
             // list itself (a shorter walk).
@@ -1187,6 +1208,96 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
                     spared += static_cast<std::size_t>(pieces_of(z.s, piece_width(z.s)));
                     z.s.tmin = z.s.tmax;  // free on [a, b]: Miss, no pieces
                     ++proven;
+                } else if (options_.monotone_segments && e.defined && finite(lane_slopes_[l]) &&
+                           (lane_slopes_[l].lower() > 0 || lane_slopes_[l].upper() < 0)) {
+                    // g is C¹ on the segment and g′ keeps one strict sign: g is strictly monotone.
+                    monotone_.push_back(
+                        {form_of_[l], z.s.tmin, z.s.tmax, 0, lane_slopes_[l].upper() < 0});
+                }
+            }
+            // Strictly monotone segments: g at both ends (one batched walk). Ends of one strict
+            // sign (the solid: both ≥ 0) prove the segment free; ends of strict opposite signs
+            // (the zero set) hold exactly one zero, bracketed by halving [lo, hi] at points (a
+            // walk per round) until it is as deep as a piece: Hit [lo, hi], with none before lo
+            // (g keeps g(lo)'s strict sign on [a, lo]). The solid's g decreasing from g(a) ≥ 0 to
+            // g(b) < 0 enters once, bracketed alike (g(lo) ≥ 0, g(hi) < 0). A midpoint whose sign
+            // is not proven ends the halving: the ray is scanned in pieces from lo.
+            if (!monotone_.empty()) {
+                points_.clear();
+                for (const Monotone& mo : monotone_) {
+                    const Ray& full = px(level.scanned[mo.ray].i, level.scanned[mo.ray].j).ray;
+                    points_.push_back(lane_box(full, mo.lo, mo.lo));
+                    points_.push_back(lane_box(full, mo.hi, mo.hi));
+                }
+                eval_lanes(list, points_.data(), points_.size(), quarter_points_);
+                std::size_t open = 0;
+                for (std::size_t k = 0; k < monotone_.size(); ++k) {
+                    Monotone& mo = monotone_[k];
+                    Level::Scanned& z = level.scanned[mo.ray];
+                    const UpInterval& ga = quarter_points_[2 * k];
+                    const UpInterval& gb = quarter_points_[2 * k + 1];
+                    z.res.evals.interval += 2;
+                    const int sa = strict(ga), sb = strict(gb);
+                    const bool solid_free =
+                        solid_ && ga.defined && gb.defined && ga.lower() >= 0 && gb.lower() >= 0;
+                    if ((!solid_ && sa != 0 && sa == sb) || solid_free) {
+                        spared += static_cast<std::size_t>(pieces_of(z.s, piece_width(z.s)));
+                        z.s.tmin = z.s.tmax;
+                        ++proven;
+                    } else if (!solid_ && sa != 0 && sb == -sa) {
+                        mo.sign = sa;
+                        monotone_[open++] = mo;
+                    } else if (solid_ && mo.decreasing && ga.defined && ga.lower() >= 0 &&
+                               sb == -1) {
+                        // The solid, g decreasing from g(a) ≥ 0 to g(b) < 0: it enters once.
+                        mo.sign = 1;
+                        monotone_[open++] = mo;
+                    }
+                }
+                monotone_.resize(open);
+                stats.monotone_segments += open;
+                while (!monotone_.empty()) {
+                    // Halving: the brackets deeper than a piece get their midpoints.
+                    points_.clear();
+                    open = 0;
+                    for (const Monotone& mo : monotone_) {
+                        Level::Scanned& z = level.scanned[mo.ray];
+                        const double mid = 0.5 * mo.lo + 0.5 * mo.hi;
+                        if (mo.hi - mo.lo <= piece_width(z.s) || !(mo.lo < mid && mid < mo.hi)) {
+                            hit_of(z.res, mo.lo, mo.hi);  // one zero in [lo, hi], none before
+                            continue;
+                        }
+                        const Ray& full = px(z.i, z.j).ray;
+                        points_.push_back(lane_box(full, mid, mid));
+                        monotone_[open++] = mo;
+                    }
+                    monotone_.resize(open);
+                    if (open == 0) break;
+                    eval_lanes(list, points_.data(), points_.size(), quarter_points_);
+                    open = 0;
+                    for (std::size_t k = 0; k < monotone_.size(); ++k) {
+                        Monotone& mo = monotone_[k];
+                        Level::Scanned& z = level.scanned[mo.ray];
+                        ++z.res.evals.interval;
+                        const double mid = 0.5 * mo.lo + 0.5 * mo.hi;
+                        const UpInterval& gm = quarter_points_[k];
+                        // The solid keeps g(lo) ≥ 0 (so g ≥ 0 on [a, lo]) and g(hi) < 0.
+                        const int sm = !solid_           ? strict(gm)
+                                       : !gm.defined     ? 0
+                                       : gm.lower() >= 0 ? 1
+                                       : gm.upper() < 0  ? -1
+                                                         : 0;
+                        if (sm == mo.sign) {
+                            mo.lo = mid;
+                        } else if (sm == -mo.sign) {
+                            mo.hi = mid;
+                        } else {
+                            z.s.tmin = mo.lo;  // free before lo: its pieces from there
+                            continue;
+                        }
+                        monotone_[open++] = mo;
+                    }
+                    monotone_.resize(open);
                 }
             }
             stats.segment_forms += proven;
@@ -1772,6 +1883,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.quarter_pieces += s.quarter_pieces;
         total.wide_forms += s.wide_forms;
         total.segment_forms += s.segment_forms;
+        total.monotone_segments += s.monotone_segments;
     }
     for (std::size_t k = 0; k < pixels; ++k) {
         st.hit += ans.status[k] == Status::Hit;

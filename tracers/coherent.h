@@ -136,6 +136,12 @@ struct CoherentOptions {
     /// a third more than their forms, one in 16 otherwise). The answers keep their meaning.
     /// Off: the pieces only.
     bool segment_forms = true;
+    /// With the segment forms, a segment that they do not prove free but on which the derivative
+    /// along the ray keeps one strict sign (g strictly monotone) is decided by points: ends of one
+    /// strict sign prove it free (the solid: both ≥ 0), ends of strict opposite signs bracket its
+    /// one zero (the solid: g decreasing from ≥ 0 to < 0, its one entry), halved at points until
+    /// the bracket is a piece deep (Hit). The answers keep their meaning. Off: the pieces.
+    bool monotone_segments = true;
     /// A hit's normal is the gradient at the hit of the pruned list that answered it. On: the hits
     /// of one scan in lanes get theirs together once the scan returns (16 at most per walk), from
     /// one walk of Dual<double, 3> lanes (expr/eval_dual_batch.h), each the same bits as a walk of
@@ -167,6 +173,8 @@ struct CoherentStats {
     std::uint64_t wide_forms = 0;
     /// rays' leaf segments that their segment form proved free (CoherentOptions::segment_forms)
     std::uint64_t segment_forms = 0;
+    /// of those tried: strictly monotone segments whose ends bracket a zero (monotone_segments)
+    std::uint64_t monotone_segments = 0;
     std::uint64_t tape_length = 0;  ///< instructions of the full tape
 };
 

@@ -366,6 +366,9 @@ TEST(Coherent, HitsAreHalfAPixelDeepAndHoldTheRootOfMathematics) {
                         EXPECT_GT(stats.together, 0u) << where;  // rays scanned together
                         if (f == with_forms) {
                             EXPECT_GT(stats.segment_forms, 0u) << where;
+                            // Zeros (the solid: entries) bracketed on strictly monotone
+                            // segments, halved at points.
+                            EXPECT_GT(stats.monotone_segments, 0u) << where;
                         }
                     } else {
                         EXPECT_EQ(stats.scans, 0u) << where;
@@ -419,47 +422,57 @@ TEST(Coherent, ImageScansInLanesAgreeWithThePerRaySolver) {
 
 TEST(Coherent, SegmentFormsKeepEveryAnswerAndSpareEvaluations) {
     // The segment forms (CoherentOptions::segment_forms) only prove segments free that the
-    // pieces would have proven free or left to the solver: with and without them, every pixel of
-    // the smooth algebraic scenes has the same status and consistent Hits, and both agree with
-    // the per-ray solver. The forms prove segments on the zero sets; on Chmutov's sextic, whose
-    // sheets many rays run beside, the image takes fewer evaluations with them.
+    // pieces would have proven free or left to the solver, and the monotone segments
+    // (monotone_segments) only answer a zero that the pieces would have found: with and without
+    // them, every pixel of the smooth algebraic scenes has the same status and consistent Hits,
+    // and all agree with the per-ray solver. The forms prove segments on the zero sets, zeros are
+    // bracketed on monotone segments, and on Chmutov's sextic, whose sheets many rays run beside,
+    // the image takes fewer evaluations with each.
+    std::uint64_t brackets = 0;
     for (const char* name : {"chmutov6.vm", "barth_sextic.vm", "mitchell.vm"}) {
         const expr::Tape tape(expr::load_graph_file((kScenes / name).string()));
         for (Surface surface : {Surface::Zero, Surface::Solid}) {
-            std::vector<RayResult> answers[2];
-            CoherentStats stats[2];
-            std::uint64_t evals[2] = {0, 0};
-            for (int on : {0, 1}) {
+            std::vector<RayResult> answers[3];
+            CoherentStats stats[3];
+            std::uint64_t evals[3] = {0, 0, 0};
+            for (int variant : {0, 1, 2}) {  // none, forms, forms and monotone segments
                 CoherentOptions o = small_view(Projection::Pinhole);
                 o.certified = image_solver_options();
                 o.depth_pixels = 0.5;
                 o.surface = surface;
-                o.segment_forms = on != 0;
-                const Agreement a = against_per_ray(tape, o, false, 1, &answers[on], &stats[on]);
+                o.segment_forms = variant >= 1;
+                o.monotone_segments = variant == 2;
+                const Agreement a =
+                    against_per_ray(tape, o, false, 1, &answers[variant], &stats[variant]);
                 const std::string where = std::string(name) +
                                           (surface == Surface::Solid ? " solid" : " zero") +
-                                          (on != 0 ? " with" : " without") + " segment forms";
+                                          " variant " + std::to_string(variant);
                 EXPECT_EQ(a.wrong, 0u) << where << ": " << a.first_wrong;
                 EXPECT_EQ(a.undecided, 0u) << where;
-                for (const RayResult& r : answers[on]) evals[on] += r.evals.total();
+                for (const RayResult& r : answers[variant]) evals[variant] += r.evals.total();
             }
             const std::string where =
                 std::string(name) + (surface == Surface::Solid ? " solid" : " zero");
-            ASSERT_EQ(answers[0].size(), answers[1].size());
-            for (std::size_t k = 0; k < answers[0].size(); ++k) {
-                EXPECT_TRUE(agree(answers[0][k], answers[1][k]))
-                    << where << " pixel " << k << ": " << describe(answers[0][k]) << " against "
-                    << describe(answers[1][k]);
+            for (int variant : {1, 2}) {
+                ASSERT_EQ(answers[0].size(), answers[variant].size());
+                for (std::size_t k = 0; k < answers[0].size(); ++k) {
+                    EXPECT_TRUE(agree(answers[0][k], answers[variant][k]))
+                        << where << " variant " << variant << " pixel " << k << ": "
+                        << describe(answers[0][k]) << " against " << describe(answers[variant][k]);
+                }
             }
             EXPECT_EQ(stats[0].segment_forms, 0u) << where;
+            EXPECT_EQ(stats[1].monotone_segments, 0u) << where;
             if (surface == Surface::Zero) {
                 EXPECT_GT(stats[1].segment_forms, 0u) << where;
+                brackets += stats[2].monotone_segments;
             }
             if (surface == Surface::Zero && std::string(name) == "chmutov6.vm") {
                 EXPECT_LT(evals[1], evals[0]) << where;
             }
         }
     }
+    EXPECT_GT(brackets, 0u);
 }
 
 TEST(Coherent, PerRaySolverDefaultsKeepTheAnswers) {
@@ -695,6 +708,16 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
                                   *rc::gen::inRange(-8, 9) / 8.0};
     const double c = expr::eval<double>(expr::Tape(g), p);
     if (std::isfinite(c)) g.set_output(g.binary(expr::Op::Sub, g.output(), g.constant(c)));
+    if (*rc::gen::arbitrary<bool>()) {
+        // Times 2 + x² + 2y² + 3z² > 0: the same zero set and solid, a list long enough for the
+        // segment forms and the monotone segments.
+        expr::NodeId w = g.constant(2.0);
+        for (int axis = 0; axis < 3; ++axis) {
+            w = g.binary(expr::Op::Add, w,
+                         g.binary(expr::Op::Mul, g.constant(axis + 1.0), g.pow(g.var(axis), 2)));
+        }
+        g.set_output(g.binary(expr::Op::Mul, g.output(), w));
+    }
     const expr::Tape tape(g);
     CoherentOptions o = small_view(*rc::gen::element(Projection::Pinhole, Projection::Ortho));
     o.render.width = *rc::gen::inRange(8u, 33u);
@@ -705,6 +728,7 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     o.smooth_together_rays = *rc::gen::element(1u, 16u, 64u);
     o.tile_pieces = *rc::gen::arbitrary<bool>();
     o.segment_forms = *rc::gen::arbitrary<bool>();
+    o.monotone_segments = *rc::gen::arbitrary<bool>();
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
     o.certified = image_solver_options();
     o.certified.budget = 2000;
@@ -715,6 +739,8 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     RC_TAG(stats.tile_decided > 0 ? "tile pieces answered rays" : "no ray answered by tiles");
     RC_TAG(stats.quarter_pieces > 0 ? "pieces scanned in quarters in lanes" : "no quarters");
     RC_TAG(stats.segment_forms > 0 ? "segment forms proved segments" : "no segment form");
+    RC_TAG(stats.monotone_segments > 0 ? "zeros bracketed on monotone segments"
+                                       : "no monotone bracket");
 }
 
 RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
@@ -743,6 +769,7 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     o.lane_mean_value = *rc::gen::arbitrary<bool>();
     o.tile_pieces = *rc::gen::arbitrary<bool>();
     o.segment_forms = *rc::gen::arbitrary<bool>();
+    o.monotone_segments = *rc::gen::arbitrary<bool>();
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
     o.certified.budget = 2000;  // the image options otherwise
     const Agreement a = against_per_ray(tape, o);
