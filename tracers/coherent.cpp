@@ -417,9 +417,10 @@ class Walker {
     /// A segment of at least this many pieces gets its segment form (CoherentOptions::
     /// segment_forms).
     static constexpr int kSegmentFormPieces = 4;
-    /// ... and a list of at least this many instructions (the sphere's 11 and the colonnade's
-    /// pruned lists of about 10 took 2–10% longer with them).
-    static constexpr std::size_t kSegmentFormList = 16;
+    /// ... and a list of at least this many instructions (the colonnade's pruned lists of about
+    /// 10 took 10% longer with the forms alone at any length; with the monotone segments, lists of
+    /// 8 and more pay or break even: docs/benchmarks.md, session 16).
+    static constexpr std::size_t kSegmentFormList = 8;
     /// scan_together()'s lanes: the boxes, their enclosures, and per lane the ray's pixel and
     /// the piece [p, q].
     std::vector<LaneBox> lanes_;
@@ -1256,6 +1257,11 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
                 }
                 monotone_.resize(open);
                 stats.monotone_segments += open;
+                // A bracket spares its ray's pieces too: the scan's win is judged with them.
+                for (const Monotone& mo : monotone_) {
+                    const Level::Scanned& z = level.scanned[mo.ray];
+                    spared += static_cast<std::size_t>(pieces_of(z.s, piece_width(z.s)));
+                }
                 while (!monotone_.empty()) {
                     // Halving: the brackets deeper than a piece get their midpoints.
                     points_.clear();
