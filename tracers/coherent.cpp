@@ -354,8 +354,8 @@ class Walker {
     /// molecule's forms prove 16% of such pieces, the bear's 67%).
     PayingTrial<4, 16> kink_forms_;
     /// This root tile's segment forms (scan_together, CoherentOptions::segment_forms; a win: the
-    /// pieces of the segments they proved free cost more than the forms): the first 4, then
-    /// while half of them win, else one in 16.
+    /// pieces of the segments they proved free or bracketed cost a third more than the forms):
+    /// the first 4, then while half of them win, else one in 16.
     PayingTrial<4, 16, 2> segment_forms_;
     /// Whether to try the mean value form on a box of `count` rays whose list is `list` (kept
     /// at `depth`): beyond 16 rays only where the list has a tangent list without kinks, which
@@ -1308,8 +1308,9 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
             }
             stats.segment_forms += proven;
         }
-        // A win: the pieces spared cost a third more than the forms (instructions times lanes;
-        // the forms' walks and bookkeeping cost more than their lanes say).
+        // A win: the pieces spared (segments proven free or bracketed) cost a third more than the
+        // forms (instructions times lanes; the forms' walks and bookkeeping cost more than their
+        // lanes say).
         segment_forms_.wins +=
             3 * spared * list.size() >= 4 * form_of_.size() * (tl->list.size() + list.size());
     }
