@@ -59,6 +59,17 @@ const expr::Tape& tape_of(int scene) {
     return tapes[scene];
 }
 
+/// A square image of side `side` of `tape` over the cube of `s`, its pinhole camera auto-framed as
+/// the CLI frames it (on the cells where the surface may be).
+void frame(tracers::CoherentOptions& o, const expr::Tape& tape, const Scene& s, unsigned side) {
+    o.render.width = o.render.height = side;
+    for (auto& a : o.render.bounds) a = {s.lo, s.hi};
+    const std::vector<tracers::Box3> cells = tracers::surface_cells(tape, o.render.bounds);
+    const auto extent = tracers::hull(cells);
+    o.render.camera = extent ? tracers::frame_boxes(cells, *extent, 35, 1.0)
+                             : tracers::frame_box(o.render.bounds, 35, 1.0);
+}
+
 /// The options of a square image of `scene`: bounds, and the CLI's auto-framed pinhole camera;
 /// `image`: the solver options for images (no exact narrowing of hits, hit width 1e-6 relative).
 tracers::CoherentOptions options(int scene, unsigned side, bool ortho, unsigned threads, bool image,
@@ -67,14 +78,7 @@ tracers::CoherentOptions options(int scene, unsigned side, bool ortho, unsigned 
     o.surface = solid ? tracers::Surface::Solid : tracers::Surface::Zero;
     o.certified = image ? tracers::image_solver_options() : solvers::CertifiedOptions{};
     o.depth_pixels = image ? 0.5 : 0.0;
-    const Scene& s = kScenes[scene];
-    o.render.width = o.render.height = side;
-    for (auto& a : o.render.bounds) a = {s.lo, s.hi};
-    const std::vector<tracers::Box3> cells =
-        tracers::surface_cells(tape_of(scene), o.render.bounds);
-    const auto extent = tracers::hull(cells);
-    o.render.camera = extent ? tracers::frame_boxes(cells, *extent, 35, 1.0)
-                             : tracers::frame_box(o.render.bounds, 35, 1.0);
+    frame(o, tape_of(scene), kScenes[scene], side);
     o.render.threads = threads;
     o.projection = ortho ? tracers::Projection::Ortho : tracers::Projection::Pinhole;
     return o;
@@ -243,17 +247,11 @@ void BM_Option(benchmark::State& state) {
         for (const Scene& s : kSmooth) t.emplace_back(expr::load_graph_file(s.path));
         return t;
     }();
-    const Scene& sc = kSmooth[state.range(0)];
     const expr::Tape& tape = tapes[static_cast<std::size_t>(state.range(0))];
     const unsigned side = static_cast<unsigned>(state.range(1));
     tracers::CoherentOptions o;
     o.depth_pixels = 0.5;
-    o.render.width = o.render.height = side;
-    for (auto& a : o.render.bounds) a = {sc.lo, sc.hi};
-    const std::vector<tracers::Box3> cells = tracers::surface_cells(tape, o.render.bounds);
-    const auto extent = tracers::hull(cells);
-    o.render.camera = extent ? tracers::frame_boxes(cells, *extent, 35, 1.0)
-                             : tracers::frame_box(o.render.bounds, 35, 1.0);
+    frame(o, tape, kSmooth[state.range(0)], side);
     o.render.threads = 2;
     const bool on = state.range(3) != 0;
     switch (state.range(2)) {

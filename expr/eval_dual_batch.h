@@ -7,11 +7,11 @@
 // eval.h) computes at point i with the variables x, y, z as partials e₀, e₁, e₂: the value and
 // the three partials, signed zeros included, and NaN where it gives NaN (a NaN's sign and
 // payload follow the operand order the compiler picks, in either walk). How: + − × ÷ neg square √
-// exp log sin cos apply Dual's formulas (interval/dual.h) lane by lane, the same IEEE operations in
-// the same order (libm's functions at each lane's value, as Dual's are); every other op is Dual's
-// own operation, lane by lane. The arithmetic runs on vectors of 4 lanes, up to the one holding
-// lane n − 1 (lanes from n on hold meaningless values); one copy for SSE2 and one for AVX2, chosen
-// as expr/eval_batch.h's batch_isa() chooses.
+// exp log sin cos, 1/x, min, max and abs apply Dual's formulas (interval/dual.h) lane by lane, the
+// same IEEE operations in the same order (libm's functions at each lane's value, as Dual's are);
+// every other op is Dual's own operation, lane by lane. The arithmetic runs on vectors of 4 lanes,
+// up to the one holding lane n − 1 (lanes from n on hold meaningless values); one copy for SSE2 and
+// one for AVX2, chosen as expr/eval_batch.h's batch_isa() chooses.
 #pragma once
 
 #include <array>

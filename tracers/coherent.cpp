@@ -234,6 +234,22 @@ class Walker {
     /// long.
     bool scan_together(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
                        Level& level, unsigned depth, const Hull& hull);
+    /// scan_together()'s segment forms (CoherentOptions::segment_forms) on the rays of
+    /// level.scanned not yet decided, where `list` (kept at `depth`) is smooth and the root tile's
+    /// trial allows: a segment proven free is left empty (no pieces); with monotone_segments, the
+    /// strictly monotone ones go to decide_monotone().
+    void take_segment_forms(const Ssa& list, unsigned depth, Level& level);
+    /// The strictly monotone segments in monotone_, decided by points of `list`: proven free,
+    /// answered (a Hit a piece deep), or left to their pieces from the bracket's lo. Returns the
+    /// pieces they spared.
+    std::size_t decide_monotone(const Ssa& list, Level& level);
+    /// Ray z's segment proven free (no pieces; counted in stats): returns the pieces it spared.
+    std::size_t prove_free(Level::Scanned& z) {
+        const auto spared = static_cast<std::size_t>(pieces_of(z.s, piece_width(z.s)));
+        z.s.tmin = z.s.tmax;
+        ++stats.segment_forms;
+        return spared;
+    }
     /// Enclosures of `list` over the boxes boxes[0, n) into out[0, n).
     void eval_lanes(const Ssa& list, const LaneBox* boxes, std::size_t n,
                     std::vector<UpInterval>& out);
@@ -272,22 +288,6 @@ class Walker {
         if (f.is_empty() || f.lower() >= 0) return Proof::Excluded;
         return f.defined && f.upper() < 0 ? Proof::Inside : Proof::None;
     }
-    /// What the mean value form in t proves on the segment [p, q] of one ray, from its lanes of a
-    /// tangent list's walk: e the enclosure of f over the segment's box, g1 that of the derivative
-    /// along the ray there, m that of f at the middle of [p, q]; Unusable (nothing counted) when
-    /// the form does not apply (f not proven defined and continuous on the box, or G′ unbounded),
-    /// else its evaluations counted in res.
-    Proof segment_form(const UpInterval& e, const UpInterval& g1, const UpInterval& m, double p,
-                       double q, RayResult& res) const {
-        if (!e.defined || g1.is_empty() || !std::isfinite(g1.lower()) ||
-            !std::isfinite(g1.upper()) || m.is_empty() || !m.defined) {
-            return Proof::Unusable;
-        }
-        ++res.evals.gradient;
-        ++res.evals.interval;
-        const UpInterval t(p, q);
-        return proof(m + g1 * (t - UpInterval(midpoint(t))));
-    }
     /// Writes a Hit [lo, hi] into res.
     static void hit_of(RayResult& res, double lo, double hi) {
         res.status = Status::Hit;
@@ -297,6 +297,24 @@ class Walker {
     }
     static bool finite(const UpInterval& v) {
         return !v.is_empty() && std::isfinite(v.lower()) && std::isfinite(v.upper());
+    }
+    /// +1 or −1: v is defined and of that strict sign; else 0.
+    static int strict_sign(const UpInterval& v) {
+        if (v.is_empty() || !v.defined) return 0;
+        return v.lower() > 0 ? 1 : v.upper() < 0 ? -1 : 0;
+    }
+    /// What the mean value form in t proves on the segment [p, q] of one ray, from its lanes of a
+    /// tangent list's walk: e the enclosure of f over the segment's box, g1 that of the derivative
+    /// along the ray there, m that of f at the middle of [p, q]; Unusable (nothing counted) when
+    /// the form does not apply (f not proven defined and continuous on the box, or G′ unbounded),
+    /// else its evaluations counted in res.
+    Proof segment_form(const UpInterval& e, const UpInterval& g1, const UpInterval& m, double p,
+                       double q, RayResult& res) const {
+        if (!e.defined || !finite(g1) || m.is_empty() || !m.defined) return Proof::Unusable;
+        ++res.evals.gradient;
+        ++res.evals.interval;
+        const UpInterval t(p, q);
+        return proof(m + g1 * (t - UpInterval(midpoint(t))));
     }
     /// For a scanned piece [p, q] of s that the plain enclosure and the point tests left
     /// undecided: what the mean value form in t proves on it (None if it does not apply), its
@@ -330,6 +348,10 @@ class Walker {
     /// Writes pixel k's normal from the gradient g, turned to face the ray's direction d (in
     /// round-to-nearest).
     void set_normal(std::size_t k, const Vec3& g, const Vec3& d);
+    /// o + t·d, where a hit's normal is taken (in round-to-nearest, as render_3d takes it).
+    static Vec3 point_at(const Ray& ray, double t) {
+        return {ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1], ray.o[2] + t * ray.d[2]};
+    }
     /// The gradient of `list` at q, by a Dual<double, 3> walk (in round-to-nearest).
     Dual<double, 3> list_gradient(const Ssa& list, const Vec3& q);
 
@@ -1106,10 +1128,6 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
             evals.interval += tiles;
         }
     }
-    const auto strict = [](const UpInterval& v) {  // +1, −1: v defined and of one strict sign
-        if (v.is_empty() || !v.defined) return 0;
-        return v.lower() > 0 ? 1 : v.upper() < 0 ? -1 : 0;
-    };
 
     // Each ray's segment after the tile pieces.
     pieces_.clear();
@@ -1146,7 +1164,8 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
                 } else if (solid_ && next && proof(tile_values_[k + 1]) == Proof::Inside) {
                     hit(std::max(p, s.tmin), q);
                 } else if (!solid_ && next && k > 0 && s.tmin <= p && tile_values_[k].defined &&
-                           strict(tile_values_[k - 1]) * strict(tile_values_[k + 1]) == -1) {
+                           strict_sign(tile_values_[k - 1]) * strict_sign(tile_values_[k + 1]) ==
+                               -1) {
                     hit(p, q);  // g(p) and g(q) of strict opposite signs, g continuous between
                 }
                 s.tmin = std::max(s.tmin, p);  // free before its first piece not proven free
@@ -1159,161 +1178,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         level.scanned.push_back({g.i, g.j, s, res, 0, 0});
     }
     stats.tile_decided += decided;
-    // Segment forms: where the list is smooth, each open ray's whole segment first gets the mean
-    // value form in t, g(c) + G′·(S − c) — G′ ⊇ g′ along the ray over the segment S (a lane of
-    // one walk of the tangent list, which also gives g's plain enclosure over S) and g at its
-    // middle c (a lane of one walk of the list). A segment it proves free needs no pieces: rays
-    // that run beside the surface (grazing it, or between close sheets) are proven so, where
-    // their pieces' plain enclosures are as wide as the box a piece spans. Short lists keep their
-    // pieces: there a walk's cost is mostly its own, not its lanes'.
-    if (options_.segment_forms && list.size() >= kSegmentFormList &&
-        tangent_kind(list, depth) == expr::TangentKind::Smooth && segment_forms_.attempt()) {
-        const expr::TangentList* tl = tangent(list, depth);
-        form_boxes_.clear();
-        points_.clear();
-        dirs_.clear();
-        form_of_.clear();
-        for (std::size_t ray = 0; ray < level.scanned.size(); ++ray) {
-            const Level::Scanned& z = level.scanned[ray];
-            // A form costs about what 4 pieces do (a walk of the tangent list and one of the
-            // list); shorter segments keep their pieces.
-            if (z.res.status != Status::Miss || !(z.s.tmin < z.s.tmax) ||
-                pieces_of(z.s, piece_width(z.s)) < kSegmentFormPieces) {
-                continue;
-            }
-            const Ray& full = px(z.i, z.j).ray;
-            const double tc = midpoint(UpInterval(z.s.tmin, z.s.tmax));
-            form_of_.push_back(ray);
-            form_boxes_.push_back(lane_box(full, z.s.tmin, z.s.tmax));
-            points_.push_back(lane_box(full, tc, tc));
-            dirs_.push_back(full.d);
-        }
-        std::size_t proven = 0, spared = 0;  // segments proven free, and their pieces
-        monotone_.clear();
-        if (!form_of_.empty()) {
-            // The segments' boxes by the tangent list (g and g′ over each), their middles by the
-            // list itself (a shorter walk).
-            eval_tangent_lanes(*tl, form_boxes_.data(), dirs_.data(), form_boxes_.size(),
-                               lane_values_, lane_slopes_);
-            eval_lanes(list, points_.data(), points_.size(), quarter_points_);
-            for (std::size_t l = 0; l < form_of_.size(); ++l) {
-                Level::Scanned& z = level.scanned[form_of_[l]];
-                const UpInterval& e = lane_values_[l];
-                ++z.res.evals.interval;
-                bool free = proof(e) == Proof::Excluded;
-                if (!free) {
-                    free = segment_form(e, lane_slopes_[l], quarter_points_[l], z.s.tmin, z.s.tmax,
-                                        z.res) == Proof::Excluded;
-                }
-                if (free) {
-                    spared += static_cast<std::size_t>(pieces_of(z.s, piece_width(z.s)));
-                    z.s.tmin = z.s.tmax;  // free on [a, b]: Miss, no pieces
-                    ++proven;
-                } else if (options_.monotone_segments && e.defined && finite(lane_slopes_[l]) &&
-                           (lane_slopes_[l].lower() > 0 || lane_slopes_[l].upper() < 0)) {
-                    // g is C¹ on the segment and g′ keeps one strict sign: g is strictly monotone.
-                    monotone_.push_back(
-                        {form_of_[l], z.s.tmin, z.s.tmax, 0, lane_slopes_[l].upper() < 0});
-                }
-            }
-            // Strictly monotone segments: g at both ends (one batched walk). Ends of one strict
-            // sign (the solid: both ≥ 0) prove the segment free; ends of strict opposite signs
-            // (the zero set) hold exactly one zero, bracketed by halving [lo, hi] at points (a
-            // walk per round) until it is as deep as a piece: Hit [lo, hi], with none before lo
-            // (g keeps g(lo)'s strict sign on [a, lo]). The solid's g decreasing from g(a) ≥ 0 to
-            // g(b) < 0 enters once, bracketed alike (g(lo) ≥ 0, g(hi) < 0). A midpoint whose sign
-            // is not proven ends the halving: the ray is scanned in pieces from lo.
-            if (!monotone_.empty()) {
-                points_.clear();
-                for (const Monotone& mo : monotone_) {
-                    const Ray& full = px(level.scanned[mo.ray].i, level.scanned[mo.ray].j).ray;
-                    points_.push_back(lane_box(full, mo.lo, mo.lo));
-                    points_.push_back(lane_box(full, mo.hi, mo.hi));
-                }
-                eval_lanes(list, points_.data(), points_.size(), quarter_points_);
-                std::size_t open = 0;
-                for (std::size_t k = 0; k < monotone_.size(); ++k) {
-                    Monotone& mo = monotone_[k];
-                    Level::Scanned& z = level.scanned[mo.ray];
-                    const UpInterval& ga = quarter_points_[2 * k];
-                    const UpInterval& gb = quarter_points_[2 * k + 1];
-                    z.res.evals.interval += 2;
-                    const int sa = strict(ga), sb = strict(gb);
-                    const bool solid_free =
-                        solid_ && ga.defined && gb.defined && ga.lower() >= 0 && gb.lower() >= 0;
-                    if ((!solid_ && sa != 0 && sa == sb) || solid_free) {
-                        spared += static_cast<std::size_t>(pieces_of(z.s, piece_width(z.s)));
-                        z.s.tmin = z.s.tmax;
-                        ++proven;
-                    } else if (!solid_ && sa != 0 && sb == -sa) {
-                        mo.sign = sa;
-                        monotone_[open++] = mo;
-                    } else if (solid_ && mo.decreasing && ga.defined && ga.lower() >= 0 &&
-                               sb == -1) {
-                        // The solid, g decreasing from g(a) ≥ 0 to g(b) < 0: it enters once.
-                        mo.sign = 1;
-                        monotone_[open++] = mo;
-                    }
-                }
-                monotone_.resize(open);
-                stats.monotone_segments += open;
-                // A bracket spares its ray's pieces too: the scan's win is judged with them.
-                for (const Monotone& mo : monotone_) {
-                    const Level::Scanned& z = level.scanned[mo.ray];
-                    spared += static_cast<std::size_t>(pieces_of(z.s, piece_width(z.s)));
-                }
-                while (!monotone_.empty()) {
-                    // Halving: the brackets deeper than a piece get their midpoints.
-                    points_.clear();
-                    open = 0;
-                    for (const Monotone& mo : monotone_) {
-                        Level::Scanned& z = level.scanned[mo.ray];
-                        const double mid = 0.5 * mo.lo + 0.5 * mo.hi;
-                        if (mo.hi - mo.lo <= piece_width(z.s) || !(mo.lo < mid && mid < mo.hi)) {
-                            hit_of(z.res, mo.lo, mo.hi);  // one zero in [lo, hi], none before
-                            continue;
-                        }
-                        const Ray& full = px(z.i, z.j).ray;
-                        points_.push_back(lane_box(full, mid, mid));
-                        monotone_[open++] = mo;
-                    }
-                    monotone_.resize(open);
-                    if (open == 0) break;
-                    eval_lanes(list, points_.data(), points_.size(), quarter_points_);
-                    open = 0;
-                    for (std::size_t k = 0; k < monotone_.size(); ++k) {
-                        Monotone& mo = monotone_[k];
-                        Level::Scanned& z = level.scanned[mo.ray];
-                        ++z.res.evals.interval;
-                        const double mid = 0.5 * mo.lo + 0.5 * mo.hi;
-                        const UpInterval& gm = quarter_points_[k];
-                        // The solid keeps g(lo) ≥ 0 (so g ≥ 0 on [a, lo]) and g(hi) < 0.
-                        const int sm = !solid_           ? strict(gm)
-                                       : !gm.defined     ? 0
-                                       : gm.lower() >= 0 ? 1
-                                       : gm.upper() < 0  ? -1
-                                                         : 0;
-                        if (sm == mo.sign) {
-                            mo.lo = mid;
-                        } else if (sm == -mo.sign) {
-                            mo.hi = mid;
-                        } else {
-                            z.s.tmin = mo.lo;  // free before lo: its pieces from there
-                            continue;
-                        }
-                        monotone_[open++] = mo;
-                    }
-                    monotone_.resize(open);
-                }
-            }
-            stats.segment_forms += proven;
-        }
-        // A win: the pieces spared (segments proven free or bracketed) cost a third more than the
-        // forms (instructions times lanes; the forms' walks and bookkeeping cost more than their
-        // lanes say).
-        segment_forms_.wins +=
-            3 * spared * list.size() >= 4 * form_of_.size() * (tl->list.size() + list.size());
-    }
+    take_segment_forms(list, depth, level);
     // The pieces of every ray not decided yet, as scan() cuts them.
     for (Level::Scanned& z : level.scanned) {
         z.begin = pieces_.size();
@@ -1352,25 +1217,19 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         return solid_ ? 1 : e.defined ? 2 : 0;
     };
     const auto points_of = [&](std::size_t k) { return points_for(piece_values_[k]); };
-    const auto hit = [](RayResult& res, double lo, double hi) {
-        res.status = Status::Hit;
-        res.t_lo = lo;
-        res.t_hi = hi;
-        res.t = 0.5 * lo + 0.5 * hi;
-    };
     // The decision on a piece [p, q] of enclosure e (not proven free), up to `tmax`.
     const auto decide_piece = [&](RayResult& res, const UpInterval& e, double p, double q,
                                   double tmax, const UpInterval* point) {
         res.status = Status::Unknown;
         res.t_lo = p;
         res.t_hi = tmax;
-        if (proof(e) == Proof::Inside) return hit(res, p, p);
+        if (proof(e) == Proof::Inside) return hit_of(res, p, p);
         const int m = points_for(e);
         res.evals.interval += static_cast<unsigned>(m);
-        if (m == 1 && proven_neg(point[0])) return hit(res, p, q);
+        if (m == 1 && proven_neg(point[0])) return hit_of(res, p, q);
         if (m == 2 && ((proven_neg(point[0]) && proven_pos(point[1])) ||
                        (proven_pos(point[0]) && proven_neg(point[1])))) {
-            return hit(res, p, q);
+            return hit_of(res, p, q);
         }
     };
     const auto decide = [&](Level::Scanned& z, std::size_t k, const UpInterval* point) {
@@ -1517,7 +1376,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
             const Proof pr =
                 tl != nullptr ? form(k, z.res) : piece_mean_value(list, z.s, c.p, c.q, z.res);
             if (pr == Proof::Inside) {
-                hit(z.res, c.p, c.p);
+                hit_of(z.res, c.p, c.p);
                 return false;
             }
             if (pr == Proof::None) return true;
@@ -1634,6 +1493,149 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
     return true;
 }
 
+void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
+    // Each open ray's whole segment S gets the mean value form in t, g(c) + G′·(S − c): G′ ⊇ g′
+    // along the ray over S (a lane of one walk of the tangent list, which also gives g's plain
+    // enclosure over S) and g at its middle c (a lane of one walk of the list). A segment it
+    // proves free needs no pieces: rays that run beside the surface (grazing it, or between close
+    // sheets) are proven so, where their pieces' plain enclosures are as wide as the box a piece
+    // spans. Short lists keep their pieces: there a walk's cost is mostly its own, not its lanes'.
+    if (!options_.segment_forms || list.size() < kSegmentFormList ||
+        tangent_kind(list, depth) != expr::TangentKind::Smooth || !segment_forms_.attempt()) {
+        return;
+    }
+    const expr::TangentList& tl = *tangent(list, depth);
+    form_boxes_.clear();
+    points_.clear();
+    dirs_.clear();
+    form_of_.clear();
+    monotone_.clear();
+    for (std::size_t ray = 0; ray < level.scanned.size(); ++ray) {
+        const Level::Scanned& z = level.scanned[ray];
+        // A form costs about what 4 pieces do (a walk of the tangent list and one of the list);
+        // shorter segments keep their pieces.
+        if (z.res.status != Status::Miss || !(z.s.tmin < z.s.tmax) ||
+            pieces_of(z.s, piece_width(z.s)) < kSegmentFormPieces) {
+            continue;
+        }
+        const Ray& full = px(z.i, z.j).ray;
+        const double tc = midpoint(UpInterval(z.s.tmin, z.s.tmax));
+        form_of_.push_back(ray);
+        form_boxes_.push_back(lane_box(full, z.s.tmin, z.s.tmax));
+        points_.push_back(lane_box(full, tc, tc));
+        dirs_.push_back(full.d);
+    }
+    std::size_t spared = 0;  // pieces of the segments decided
+    if (!form_of_.empty()) {
+        eval_tangent_lanes(tl, form_boxes_.data(), dirs_.data(), form_boxes_.size(), lane_values_,
+                           lane_slopes_);
+        eval_lanes(list, points_.data(), points_.size(), quarter_points_);
+        for (std::size_t l = 0; l < form_of_.size(); ++l) {
+            Level::Scanned& z = level.scanned[form_of_[l]];
+            const UpInterval& e = lane_values_[l];
+            const UpInterval& g1 = lane_slopes_[l];
+            ++z.res.evals.interval;
+            if (proof(e) == Proof::Excluded || segment_form(e, g1, quarter_points_[l], z.s.tmin,
+                                                            z.s.tmax, z.res) == Proof::Excluded) {
+                spared += prove_free(z);
+            } else if (options_.monotone_segments && e.defined && finite(g1) &&
+                       (g1.lower() > 0 || g1.upper() < 0)) {
+                // g is C¹ on the segment and g′ keeps one strict sign: g is strictly monotone.
+                monotone_.push_back({form_of_[l], z.s.tmin, z.s.tmax, 0, g1.upper() < 0});
+            }
+        }
+        spared += decide_monotone(list, level);
+    }
+    // A win: the pieces spared (segments proven free or bracketed) cost a third more than the
+    // forms (instructions times lanes; the forms' walks and bookkeeping cost more than their lanes
+    // say).
+    segment_forms_.wins +=
+        3 * spared * list.size() >= 4 * form_of_.size() * (tl.list.size() + list.size());
+}
+
+std::size_t Walker::decide_monotone(const Ssa& list, Level& level) {
+    // g at both ends (one batched walk). Ends of one strict sign (the solid: both ≥ 0) prove the
+    // segment free; ends of strict opposite signs (the zero set) hold exactly one zero, bracketed
+    // by halving [lo, hi] at points (a walk per round) until it is as deep as a piece: Hit
+    // [lo, hi], with none before lo (g keeps g(lo)'s strict sign on [a, lo]). The solid's g
+    // decreasing from g(a) ≥ 0 to g(b) < 0 enters once, bracketed alike (g(lo) ≥ 0, g(hi) < 0).
+    // A midpoint whose sign is not proven ends the halving: the ray is scanned in pieces from lo.
+    if (monotone_.empty()) return 0;
+    points_.clear();
+    for (const Monotone& mo : monotone_) {
+        const Ray& full = px(level.scanned[mo.ray].i, level.scanned[mo.ray].j).ray;
+        points_.push_back(lane_box(full, mo.lo, mo.lo));
+        points_.push_back(lane_box(full, mo.hi, mo.hi));
+    }
+    eval_lanes(list, points_.data(), points_.size(), quarter_points_);
+    std::size_t spared = 0, open = 0;
+    for (std::size_t k = 0; k < monotone_.size(); ++k) {
+        Monotone& mo = monotone_[k];
+        Level::Scanned& z = level.scanned[mo.ray];
+        const UpInterval& ga = quarter_points_[2 * k];
+        const UpInterval& gb = quarter_points_[2 * k + 1];
+        z.res.evals.interval += 2;
+        const int sa = strict_sign(ga), sb = strict_sign(gb);
+        const bool a_nonneg = ga.defined && ga.lower() >= 0;
+        if (solid_ ? a_nonneg && gb.defined && gb.lower() >= 0 : sa != 0 && sa == sb) {
+            spared += prove_free(z);
+            continue;
+        }
+        // The zero set's one zero; the solid, g decreasing from g(a) ≥ 0 to g(b) < 0: it enters
+        // once.
+        const bool bracket = solid_ ? mo.decreasing && a_nonneg && sb == -1 : sa != 0 && sb == -sa;
+        if (!bracket) continue;
+        mo.sign = solid_ ? 1 : sa;
+        spared += static_cast<std::size_t>(pieces_of(z.s, piece_width(z.s)));
+        monotone_[open++] = mo;
+    }
+    monotone_.resize(open);
+    stats.monotone_segments += open;
+    while (!monotone_.empty()) {
+        // Halving: the brackets deeper than a piece get their midpoints.
+        points_.clear();
+        open = 0;
+        for (const Monotone& mo : monotone_) {
+            Level::Scanned& z = level.scanned[mo.ray];
+            const double mid = 0.5 * mo.lo + 0.5 * mo.hi;
+            if (mo.hi - mo.lo <= piece_width(z.s) || !(mo.lo < mid && mid < mo.hi)) {
+                hit_of(z.res, mo.lo, mo.hi);  // one zero in [lo, hi], none before
+                continue;
+            }
+            points_.push_back(lane_box(px(z.i, z.j).ray, mid, mid));
+            monotone_[open++] = mo;
+        }
+        monotone_.resize(open);
+        if (open == 0) break;
+        eval_lanes(list, points_.data(), points_.size(), quarter_points_);
+        open = 0;
+        for (std::size_t k = 0; k < monotone_.size(); ++k) {
+            Monotone& mo = monotone_[k];
+            Level::Scanned& z = level.scanned[mo.ray];
+            ++z.res.evals.interval;
+            const double mid = 0.5 * mo.lo + 0.5 * mo.hi;
+            const UpInterval& gm = quarter_points_[k];
+            // The solid keeps g(lo) ≥ 0 (so g ≥ 0 on [a, lo]) and g(hi) < 0.
+            const int sm = !solid_           ? strict_sign(gm)
+                           : !gm.defined     ? 0
+                           : gm.lower() >= 0 ? 1
+                           : gm.upper() < 0  ? -1
+                                             : 0;
+            if (sm == mo.sign) {
+                mo.lo = mid;
+            } else if (sm == -mo.sign) {
+                mo.hi = mid;
+            } else {
+                z.s.tmin = mo.lo;  // free before lo: its pieces from there
+                continue;
+            }
+            monotone_[open++] = mo;
+        }
+        monotone_.resize(open);
+    }
+    return spared;
+}
+
 void Walker::inside(const Rect& r, double a, double b, const Ssa& list) {
     for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
         for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
@@ -1685,8 +1687,7 @@ void Walker::answer(unsigned i, unsigned j, Px& p, const RayResult& res, const S
         return;
     }
     NearestInUpward env;  // as render_3d computes the normal (the walk holds its upward scope)
-    const Vec3 q{ray.o[0] + res.t * ray.d[0], ray.o[1] + res.t * ray.d[1],
-                 ray.o[2] + res.t * ray.d[2]};
+    const Vec3 q = point_at(ray, res.t);
     Dual<double, 3> g;
     if (on_list) {
         // The pruned list, much shorter than the tape (a tenth on Fidget's colonnade).
@@ -1716,9 +1717,7 @@ void Walker::flush_normals() {
     const Ssa& list = *pending_list_;
     NearestInUpward env;  // as answer() computes a normal, its normalisation included
     for (int k = 0; k < pending_; ++k) {
-        const Ray& ray = *pending_ray_[k];
-        const double t = pending_t_[k];
-        pending_q_[k] = {ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1], ray.o[2] + t * ray.d[2]};
+        pending_q_[k] = point_at(*pending_ray_[k], pending_t_[k]);
     }
     if (pending_ < kFewNormals) {
         for (int k = 0; k < pending_; ++k) {
