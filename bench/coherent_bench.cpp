@@ -19,7 +19,9 @@
 // certified rendering". BM_Cone: the Lipschitz tracers with and without the cone march
 // (docs/benchmarks.md, "Cone marching for the Lipschitz tracers"). BM_Option: the gallery's
 // smooth scenes with and without one CoherentOptions switch, for interleaved runs
-// (docs/benchmarks.md, "Segment forms, and where Barth's evaluations go").
+// (docs/benchmarks.md, "Segment forms, and where Barth's evaluations go"). BM_Fold: the long-list
+// scenes (the bear, the molecule, the particles, test.json) with and without folded lists
+// (docs/benchmarks.md, "Lists folded to their boxes").
 #include <benchmark/benchmark.h>
 
 #include <string>
@@ -222,6 +224,24 @@ BENCHMARK(BM_PerRay)
     ->UseRealTime()
     ->Iterations(1);
 
+/// The tapes of `scenes`, in order.
+template <std::size_t N>
+std::vector<expr::Tape> tapes_of(const Scene (&scenes)[N]) {
+    std::vector<expr::Tape> t;
+    for (const Scene& s : scenes) t.emplace_back(expr::load_graph_file(s.path));
+    return t;
+}
+
+/// The options of a square image of `tape` over the cube of `s` as `certray render` makes it:
+/// pinhole camera framed by frame(), the image options, hits half a pixel deep, 2 threads.
+tracers::CoherentOptions image_of(const expr::Tape& tape, const Scene& s, unsigned side) {
+    tracers::CoherentOptions o;
+    o.depth_pixels = 0.5;
+    frame(o, tape, s, side);
+    o.render.threads = 2;
+    return o;
+}
+
 /// The smooth scenes of the gallery (tangent lists without kinks), over their files' bounds.
 const Scene kSmooth[] = {{CERTRAY_SCENES_DIR "/barth_sextic.vm", -2, 2},
                          {CERTRAY_SCENES_DIR "/chmutov6.vm", -1.2, 1.2},
@@ -242,17 +262,10 @@ const Scene kSmooth[] = {{CERTRAY_SCENES_DIR "/barth_sextic.vm", -2, 2},
 /// one process. Arguments: scene (kSmooth), side, option (0 segment_forms, 1 monotone_segments),
 /// on.
 void BM_Option(benchmark::State& state) {
-    static std::vector<expr::Tape> tapes = [] {
-        std::vector<expr::Tape> t;
-        for (const Scene& s : kSmooth) t.emplace_back(expr::load_graph_file(s.path));
-        return t;
-    }();
+    static const std::vector<expr::Tape> tapes = tapes_of(kSmooth);
     const expr::Tape& tape = tapes[static_cast<std::size_t>(state.range(0))];
     const unsigned side = static_cast<unsigned>(state.range(1));
-    tracers::CoherentOptions o;
-    o.depth_pixels = 0.5;
-    frame(o, tape, kSmooth[state.range(0)], side);
-    o.render.threads = 2;
+    tracers::CoherentOptions o = image_of(tape, kSmooth[state.range(0)], side);
     const bool on = state.range(3) != 0;
     switch (state.range(2)) {
         case 0:
@@ -277,6 +290,54 @@ void BM_Option(benchmark::State& state) {
 BENCHMARK(BM_Option)
     ->ArgNames({"scene", "side", "option", "on"})
     ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}, {512}, {0, 1}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+
+/// Scenes whose lists are long (hundreds to thousands of instructions), over their bounds.
+const Scene kLong[] = {{CERTRAY_SCENES_DIR "/fidget/bear.vm", -1, 1},
+                       {CERTRAY_SCENES_DIR "/molecule.json", -1.1, 1.1},
+                       {CERTRAY_SCENES_DIR "/particles.txt", -2, 2},
+                       {CERTRAY_SCENES_DIR "/test.json", -1, 1}};
+
+/// The coherent image of a long-list scene with the lists of its scans folded to their boxes
+/// (CoherentOptions::fold_lists, 128) or not (0), for interleaved runs as BM_Option. Arguments:
+/// scene (kLong), side, ortho, solid, fold. Counters: folds per pixel and the instructions a fold
+/// drops on average.
+void BM_Fold(benchmark::State& state) {
+    static const std::vector<expr::Tape> tapes = tapes_of(kLong);
+    const expr::Tape& tape = tapes[static_cast<std::size_t>(state.range(0))];
+    const unsigned side = static_cast<unsigned>(state.range(1));
+    tracers::CoherentOptions o = image_of(tape, kLong[state.range(0)], side);
+    o.projection = state.range(2) != 0 ? tracers::Projection::Ortho : tracers::Projection::Pinhole;
+    o.surface = state.range(3) != 0 ? tracers::Surface::Solid : tracers::Surface::Zero;
+    o.fold_lists = state.range(4) != 0 ? 128 : 0;
+    tracers::RenderResult r;
+    tracers::CoherentStats s;
+    for (auto _ : state) {
+        r = tracers::render_3d_coherent(tape, o, &s);
+        benchmark::DoNotOptimize(r.stats.hit);
+    }
+    const double px = static_cast<double>(side) * side;
+    report(state, r, px);
+    state.counters["folds/px"] = static_cast<double>(s.folds) / px;
+    state.counters["dropped"] =
+        s.folds > 0 ? static_cast<double>(s.folded_instructions) / s.folds : 0;
+}
+
+// Arguments: scene (kLong), side, ortho, solid, fold.
+BENCHMARK(BM_Fold)
+    ->ArgNames({"scene", "side", "ortho", "solid", "fold"})
+    ->Args({0, 512, 1, 1, 0})
+    ->Args({0, 512, 1, 1, 1})
+    ->Args({0, 512, 0, 1, 0})
+    ->Args({0, 512, 0, 1, 1})
+    ->Args({1, 128, 0, 1, 0})
+    ->Args({1, 128, 0, 1, 1})
+    ->Args({2, 512, 0, 0, 0})
+    ->Args({2, 512, 0, 0, 1})
+    ->Args({3, 512, 0, 1, 0})
+    ->Args({3, 512, 0, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime();

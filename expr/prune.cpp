@@ -183,6 +183,44 @@ bool prune_ssa(const std::vector<Instr>& ssa, const UpInterval* values, PruneWor
     return prune_walk<0>(ssa, values, ws, out, stride);
 }
 
+std::size_t fold_ssa(const std::vector<Instr>& ssa, const UpInterval* values, double width,
+                     FoldedList& out) {
+    out.list.clear();
+    out.fixed.clear();
+    const std::size_t n = ssa.size();
+    if (n < 2 || !(width >= 0)) return 0;
+    // Per slot (slots are < n): 0 not read, 1 read by a kept instruction, 2 folded (an input).
+    std::vector<std::uint8_t>& state = out.state;
+    state.assign(n, 0);
+    state[ssa[n - 1].out] = 1;
+    std::size_t kept = 0, folded = 0;
+    for (std::size_t i = n; i-- > 0;) {
+        const Instr& in = ssa[i];
+        if (state[in.out] == 0) continue;
+        const UpInterval& v = values[in.out];
+        if (i + 1 < n && in.op != Op::Const && v.defined && !v.is_empty() &&
+            std::isfinite(v.lower()) && std::isfinite(v.upper()) &&
+            v.upper() - v.lower() <= width) {
+            state[in.out] = 2;
+            ++folded;
+            continue;
+        }
+        ++kept;
+        const int k = arity(in.op);
+        if (k >= 1 && state[in.a] == 0) state[in.a] = 1;
+        if (k == 2 && state[in.b] == 0) state[in.b] = 1;
+    }
+    if (folded == 0) return 0;
+    for (const Instr& in : ssa) {
+        if (state[in.out] == 1) {
+            out.list.push_back(in);
+        } else if (state[in.out] == 2) {
+            out.fixed.emplace_back(in.out, values[in.out]);
+        }
+    }
+    return n - kept;
+}
+
 PruneResult prune(const Tape& tape, const std::array<Interval, 3>& box) {
     const std::vector<Instr>& ssa = tape.ssa();
     const std::size_t n = ssa.size();

@@ -25,6 +25,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "expr/tape.h"
@@ -85,5 +86,33 @@ struct PruneWorkspace {
 /// `ssa`.
 bool prune_ssa(const std::vector<Instr>& ssa, const UpInterval* values, PruneWorkspace& ws,
                std::vector<Instr>& out, std::size_t stride = 1);
+
+/// An SSA list folded to a box (fold_ssa): `list` computes f from the variables and from the
+/// slots of `fixed`, which no instruction of `list` writes: the caller writes each slot's
+/// enclosure there before every walk (in every lane, decoration included).
+struct FoldedList {
+    std::vector<Instr> list;
+    std::vector<std::pair<std::uint32_t, UpInterval>> fixed;
+    std::vector<std::uint8_t> state;  ///< fold_ssa's scratch (per slot of the list it folds)
+};
+
+/// Folds an SSA list to a box: each subexpression whose enclosure over the box (values[s], as for
+/// prune_ssa with stride 1) is defined, bounded and at most `width` wide becomes an input fixed at
+/// that enclosure, and what only it read is dropped (the output itself is never folded).
+///
+/// An inclusion, not an equality: for every sub-box (or point) B of the box, the interval walk of
+/// `out.list` over B, its fixed slots filled, encloses f over B — each fixed value holds its
+/// subexpression's value at every point of the box, every other op is the list's own — and its
+/// decoration says "defined and continuous" only where f is (a folded subexpression is so on the
+/// whole box). What the folded list loses is the width of its inputs: a point's enclosure is
+/// as wide as the fixed values make it. Its tangent list (expr/tangent.h) takes the fixed slots
+/// as inputs of derivative 0: the derivative along a direction with them held fixed, which gives
+/// mean value forms that hold for f on segments of the box (f(t) = h(t, s(t)) with s(t) in the
+/// fixed enclosures S, and h(t, s) ∈ h(c, S) + ∂h/∂t·(t − c)) — but not f's own derivative: an
+/// interval Newton step or a sign of f′ needs the list itself. Returns the number of instructions
+/// dropped (0: nothing folded, `out.list` and `out.fixed` are cleared). `ssa` is an SSA list as
+/// for prune_ssa. Allocates nothing once `out` has grown to the size of `ssa`.
+std::size_t fold_ssa(const std::vector<Instr>& ssa, const UpInterval* values, double width,
+                     FoldedList& out);
 
 }  // namespace certray::expr

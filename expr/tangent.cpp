@@ -77,8 +77,14 @@ std::optional<TangentList> tangent_list(const std::vector<Instr>& list) {
         !std::all_of(list.begin(), list.end(), [](const Instr& in) { return has_rule(in.op); })) {
         return std::nullopt;
     }
+    // Slots past every slot the list writes or reads (an operand that no instruction writes is
+    // an input: its derivative is 0).
     std::uint32_t end = 0;
-    for (const Instr& in : list) end = std::max(end, in.out + 1);
+    for (const Instr& in : list) {
+        end = std::max(end, in.out + 1);
+        if (arity(in.op) >= 1) end = std::max(end, in.a + 1);
+        if (arity(in.op) == 2) end = std::max(end, in.b + 1);
+    }
     TangentList t;
     t.smooth = std::none_of(list.begin(), list.end(), [](const Instr& in) { return kink(in.op); });
     Writer w(end);

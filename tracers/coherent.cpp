@@ -108,6 +108,12 @@ struct Level {
     bool tangent_known = false;
     /// expr::tangent_kind(list), once asked for.
     std::optional<expr::TangentKind> kind;
+    /// The list that this level's scan in lanes walks (Walker::fold): folded to the node's box
+    /// (expr::fold_ssa), or empty (the list itself); its tangent list and kind as above.
+    expr::FoldedList folded;
+    std::optional<expr::TangentList> folded_tangent;
+    bool folded_tangent_known = false;
+    std::optional<expr::TangentKind> folded_kind;
 };
 
 bool splittable(double a, double b) {
@@ -250,9 +256,23 @@ class Walker {
         ++stats.segment_forms;
         return spared;
     }
-    /// Enclosures of `list` over the boxes boxes[0, n) into out[0, n).
+    /// Enclosures of `list` over the boxes boxes[0, n) into out[0, n); with `fold`, of its
+    /// folded list where it has one (Level::folded: the boxes must lie in its node's box).
     void eval_lanes(const Ssa& list, const LaneBox* boxes, std::size_t n,
-                    std::vector<UpInterval>& out);
+                    std::vector<UpInterval>& out, const Level* fold = nullptr);
+    /// Writes the fixed values of level.folded into lanes 0 … m − 1 of their slots.
+    void load_fixed(const Level& level, int m);
+    /// level.folded for the scan in lanes of `sub` (the node's list: `list` pruned when
+    /// `pruned`) over `box`, from level.values (`list`'s enclosures over it): the subexpressions
+    /// narrower than kFoldWidth times f's enclosure become inputs where the folded list's value at
+    /// the box's centre stays within kFoldCentre of it (three tries, each a 32nd of the width
+    /// before); empty otherwise.
+    void fold(const Ssa& list, const Ssa& sub, bool pruned, const std::array<UpInterval, 3>& box,
+              Level& level);
+    /// tangent_kind() and tangent() of what the scan of `list` at this level walks in lanes: the
+    /// folded list's where the level has one.
+    expr::TangentKind lane_tangent_kind(const Ssa& list, unsigned depth, Level& level);
+    const expr::TangentList* lane_tangent(const Ssa& list, unsigned depth, Level& level);
     /// Loads boxes[0, m) into lanes 0 … m − 1 of lane_in_ (m ≤ kIntervalLanes): each axis the
     /// interval ray_box gives (empty where a bound is NaN or lo > hi).
     void load_lanes(const LaneBox* boxes, int m);
@@ -265,9 +285,11 @@ class Walker {
     Level* owner_of(const Ssa& list, unsigned depth);
     /// Enclosures of f and of its derivative along each lane's direction dirs[k] over the boxes
     /// boxes[0, n), by the tangent list `tl`, into values[0, n) and slopes[0, n).
+    /// `fold`: `tl` is the tangent list of fold->folded's list (its fixed values are loaded).
     void eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxes,
                             const std::array<double, 3>* dirs, std::size_t n,
-                            std::vector<UpInterval>& values, std::vector<UpInterval>& slopes);
+                            std::vector<UpInterval>& values, std::vector<UpInterval>& slopes,
+                            const Level* fold = nullptr);
     /// Solid: every open ray of r that meets [a, b] enters {f < 0} at its first parameter in
     /// [a, b] (the box there is proven inside, and g ≥ 0 is proven before): a Hit [t, t].
     void inside(const Rect& r, double a, double b, const Ssa& list);
@@ -379,6 +401,10 @@ class Walker {
     /// pieces of the segments they proved free or bracketed cost a third more than the forms):
     /// the first 4, then while half of them win, else one in 16.
     PayingTrial<4, 16, 2> segment_forms_;
+    /// This root tile's folds (fold(); a win: a fold, which drops an eighth of the list or more):
+    /// the first 4, then while half of them win, else one in 16. The molecule's lists of thousands
+    /// of instructions drop little, and a fold costs about four walks of the list.
+    PayingTrial<4, 16, 2> fold_trial_;
     /// Whether to try the mean value form on a box of `count` rays whose list is `list` (kept
     /// at `depth`): beyond 16 rays only where the list has a tangent list without kinks, which
     /// gives the form from five lanes.
@@ -436,6 +462,10 @@ class Walker {
     static constexpr std::size_t kLongList = 200;
     /// At most this many pieces a leaf segment is scanned in; longer ones go to the solver.
     static constexpr int kMaxPieces = 8;
+    /// ... their subexpressions at most this fraction of f's width over the box wide ...
+    static constexpr double kFoldWidth = 1e-3;
+    /// ... where the folded list's enclosure at the box's centre is at most this fraction of it.
+    static constexpr double kFoldCentre = 1e-3;
     /// A segment of at least this many pieces gets its segment form (CoherentOptions::
     /// segment_forms).
     static constexpr int kSegmentFormPieces = 4;
@@ -500,6 +530,8 @@ class Walker {
     std::vector<std::pair<double, double>> quarter_t_;
     std::vector<UpInterval> quarter_values_, quarter_points_, quarter_slopes_;
     std::vector<std::array<double, 3>> quarter_dirs_;
+    std::vector<UpInterval> fold_values_;  ///< fold()'s enclosures of the pruned list's slots
+    std::vector<UpInterval> fold_regs_;    ///< fold()'s registers (the folded list at the centre)
     std::array<expr::IntervalLanes, 3> lane_in_;  ///< eval_lanes()'s boxes, x, y, z
     std::vector<expr::IntervalLanes> lane_regs_;  ///< eval_lanes()'s registers
 };
@@ -729,6 +761,7 @@ void Walker::tile(const Rect& r) {
     tile_trial_.reset();
     kink_forms_.reset();
     segment_forms_.reset();
+    fold_trial_.reset();
     px_.assign(std::size_t{r.w} * r.h, Px{});
     for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {  // a miss until answered
         const std::size_t row = std::size_t{j} * ans_.width;
@@ -875,6 +908,7 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     const bool together =
         count <= plain || (count <= options_.smooth_together_rays && options_.lane_mean_value &&
                            tangent_kind(*sub, depth) == expr::TangentKind::Smooth);
+    if (together) fold(list, *sub, sub != &list, segment_box(olo, ohi, dlo, dhi, a, b), level);
     if (together && scan_together(r, a, b, *sub, sub_tape, level, depth, hull)) {
         return;
     }
@@ -1002,17 +1036,91 @@ void Walker::load_lanes(const LaneBox* boxes, int m) {
 }
 
 void Walker::eval_lanes(const Ssa& list, const LaneBox* boxes, std::size_t n,
-                        std::vector<UpInterval>& out) {
+                        std::vector<UpInterval>& out, const Level* fold) {
+    if (fold != nullptr && fold->folded.list.empty()) fold = nullptr;
+    const Ssa& walked = fold != nullptr ? fold->folded.list : list;
+    // The folded list's slots (and its fixed ones) are the list's: fewer than its length.
     if (lane_regs_.size() < list.size()) lane_regs_.resize(list.size());
     if (out.size() < n) out.resize(n);
-    const std::uint32_t f = list.back().out;
+    const std::uint32_t f = walked.back().out;
     for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
         const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
         load_lanes(boxes + k0, m);
-        expr::run_interval_batch(list.data(), list.data() + list.size(), lane_in_.data(),
+        if (fold != nullptr) load_fixed(*fold, m);
+        expr::run_interval_batch(walked.data(), walked.data() + walked.size(), lane_in_.data(),
                                  lane_regs_.data(), m);
         for (int k = 0; k < m; ++k) out[k0 + k] = expr::lane(lane_regs_[f], k);
     }
+}
+
+void Walker::load_fixed(const Level& level, int m) {
+    for (const auto& [slot, v] : level.folded.fixed) {
+        expr::IntervalLanes& x = lane_regs_[slot];
+        std::fill(x.lo, x.lo + m, v.lower());
+        std::fill(x.hi, x.hi + m, v.upper());
+        x.defined[0] = ~std::uint64_t{0};  // fold_ssa fixes defined enclosures only
+    }
+}
+
+void Walker::fold(const Ssa& list, const Ssa& sub, bool pruned,
+                  const std::array<UpInterval, 3>& box, Level& level) {
+    expr::FoldedList& folded = level.folded;
+    folded.list.clear();
+    folded.fixed.clear();
+    level.folded_tangent_known = false;
+    level.folded_kind.reset();
+    if (options_.fold_lists == 0 || sub.size() < options_.fold_lists || !fold_trial_.attempt()) {
+        return;
+    }
+    // The enclosures of sub's slots over the box: level.values, through prune_ssa's renaming
+    // (a slot that took over a dropped min/max's has the same values on the box).
+    const std::size_t n = sub.size();
+    const UpInterval* values = level.values.data();
+    if (pruned) {
+        fold_values_.assign(n, UpInterval::empty());
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            const std::uint32_t s = prune_ws_.bind[i];
+            if (s < n) fold_values_[s] = level.values[i];
+        }
+        values = fold_values_.data();
+    }
+    const UpInterval f = values[sub.back().out];
+    const double w = f.upper() - f.lower();
+    if (!(w > 0) || !std::isfinite(w)) return;
+    std::array<UpInterval, 3> centre;
+    for (int c = 0; c < 3; ++c) centre[c] = UpInterval(midpoint(box[c]));
+    if (fold_regs_.size() < n) fold_regs_.resize(n);
+    double width = kFoldWidth * w;
+    for (int tries = 0; tries < 3; ++tries, width /= 32) {
+        // An eighth of the list or more, or none (a narrower width drops less).
+        if (8 * expr::fold_ssa(sub, values, width, folded) < n) break;
+        for (const auto& [slot, v] : folded.fixed) fold_regs_[slot] = v;
+        expr::detail::run<UpInterval>(folded.list, centre, fold_regs_.data());
+        const UpInterval at = fold_regs_[folded.list.back().out];
+        if (at.upper() - at.lower() <= kFoldCentre * w) {
+            ++stats.folds;
+            stats.folded_instructions += n - folded.list.size();
+            ++fold_trial_.wins;
+            return;
+        }
+    }
+    folded.list.clear();
+    folded.fixed.clear();
+}
+
+expr::TangentKind Walker::lane_tangent_kind(const Ssa& list, unsigned depth, Level& level) {
+    if (level.folded.list.empty()) return tangent_kind(list, depth);
+    if (!level.folded_kind) level.folded_kind = expr::tangent_kind(level.folded.list);
+    return *level.folded_kind;
+}
+
+const expr::TangentList* Walker::lane_tangent(const Ssa& list, unsigned depth, Level& level) {
+    if (level.folded.list.empty()) return tangent(list, depth);
+    if (!level.folded_tangent_known) {
+        level.folded_tangent = expr::tangent_list(level.folded.list);
+        level.folded_tangent_known = true;
+    }
+    return level.folded_tangent ? &*level.folded_tangent : nullptr;
 }
 
 const expr::TangentList* Walker::tangent(const Ssa& list, unsigned depth) {
@@ -1048,13 +1156,15 @@ expr::TangentKind Walker::tangent_kind(const Ssa& list, unsigned depth) {
 
 void Walker::eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxes,
                                 const std::array<double, 3>* dirs, std::size_t n,
-                                std::vector<UpInterval>& values, std::vector<UpInterval>& slopes) {
+                                std::vector<UpInterval>& values, std::vector<UpInterval>& slopes,
+                                const Level* fold) {
     if (lane_regs_.size() < tl.slots) lane_regs_.resize(tl.slots);
     if (values.size() < n) values.resize(n);
     if (slopes.size() < n) slopes.resize(n);
     for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
         const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
         load_lanes(boxes + k0, m);
+        if (fold != nullptr) load_fixed(*fold, m);  // none where the level has no folded list
         for (int k = 0; k < m; ++k) {
             for (int c = 0; c < 3; ++c) {
                 expr::set_lane(lane_regs_[tl.seed[c]], k, UpInterval(dirs[k0 + k][c]));
@@ -1123,7 +1233,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
             tile_t_[k + 1] = hi;
         }
         if (tiles > 0) {
-            eval_lanes(list, tile_boxes_.data(), tiles, tile_values_);
+            eval_lanes(list, tile_boxes_.data(), tiles, tile_values_, &level);
             stats.tile_pieces += tiles;
             evals.interval += tiles;
         }
@@ -1201,7 +1311,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         const Piece& c = pieces_[k];
         lanes_[k] = lane_box(px(c.i, c.j).ray, c.p, c.q);
     }
-    eval_lanes(list, lanes_.data(), n, piece_values_);
+    eval_lanes(list, lanes_.data(), n, piece_values_, &level);
     piece_proof_.resize(n);
     for (std::size_t k = 0; k < n; ++k) piece_proof_[k] = proof(piece_values_[k]);
 
@@ -1268,7 +1378,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         at[ray] = points_.size();
         add_points(points_, first[ray]);
     }
-    if (!points_.empty()) eval_lanes(list, points_.data(), points_.size(), lane_values_);
+    if (!points_.empty()) eval_lanes(list, points_.data(), points_.size(), lane_values_, &level);
     std::size_t open = 0;  // rays still undecided
     for (std::size_t ray = 0; ray < rays; ++ray) {
         if (first[ray] == n) continue;
@@ -1286,12 +1396,13 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
     // one piece at a time.
     // A list with kinks: its forms are looser at the kinks' ties, so they are tried while they
     // pay in the root tile (otherwise each ray's form is one Dual walk, piece_mean_value()).
-    const expr::TangentKind kind =
-        open > 0 && options_.lane_mean_value ? tangent_kind(list, depth) : expr::TangentKind::None;
+    const expr::TangentKind kind = open > 0 && options_.lane_mean_value
+                                       ? lane_tangent_kind(list, depth, level)
+                                       : expr::TangentKind::None;
     const bool kinked = kind == expr::TangentKind::Kinked;
     const expr::TangentList* tl =
         kind == expr::TangentKind::Smooth || (kinked && kink_forms_.attempt())
-            ? tangent(list, depth)
+            ? lane_tangent(list, depth, level)
             : nullptr;
     std::size_t forms_tried = 0, forms_proven = 0;
     if (tl != nullptr) {
@@ -1315,7 +1426,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
             dirs_.resize(form_boxes_.size(), full.d);
         }
         eval_tangent_lanes(*tl, form_boxes_.data(), dirs_.data(), form_boxes_.size(), lane_values_,
-                           lane_slopes_);
+                           lane_slopes_, &level);
     }
     // The mean value form on a piece [p, q] of enclosure e from its lanes: G′ (the derivative
     // over the piece) and the value at its middle.
@@ -1414,7 +1525,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
             }
             v.count = quarter_boxes_.size() - v.box;
         }
-        eval_lanes(list, quarter_boxes_.data(), quarter_boxes_.size(), quarter_values_);
+        eval_lanes(list, quarter_boxes_.data(), quarter_boxes_.size(), quarter_values_, &level);
         points_.clear();
         quarter_dirs_.clear();
         for (Waiting& v : waiting_) {
@@ -1445,9 +1556,9 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         }
         if (!points_.empty() && tl != nullptr) {
             eval_tangent_lanes(*tl, points_.data(), quarter_dirs_.data(), points_.size(),
-                               quarter_points_, quarter_slopes_);
+                               quarter_points_, quarter_slopes_, &level);
         } else if (!points_.empty()) {
-            eval_lanes(list, points_.data(), points_.size(), quarter_points_);
+            eval_lanes(list, points_.data(), points_.size(), quarter_points_, &level);
         }
         still_.clear();
         for (Waiting& v : waiting_) {
@@ -1501,10 +1612,11 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
     // sheets) are proven so, where their pieces' plain enclosures are as wide as the box a piece
     // spans. Short lists keep their pieces: there a walk's cost is mostly its own, not its lanes'.
     if (!options_.segment_forms || list.size() < kSegmentFormList ||
-        tangent_kind(list, depth) != expr::TangentKind::Smooth || !segment_forms_.attempt()) {
+        lane_tangent_kind(list, depth, level) != expr::TangentKind::Smooth ||
+        !segment_forms_.attempt()) {
         return;
     }
-    const expr::TangentList& tl = *tangent(list, depth);
+    const expr::TangentList& tl = *lane_tangent(list, depth, level);
     form_boxes_.clear();
     points_.clear();
     dirs_.clear();
@@ -1528,8 +1640,8 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
     std::size_t spared = 0;  // pieces of the segments decided
     if (!form_of_.empty()) {
         eval_tangent_lanes(tl, form_boxes_.data(), dirs_.data(), form_boxes_.size(), lane_values_,
-                           lane_slopes_);
-        eval_lanes(list, points_.data(), points_.size(), quarter_points_);
+                           lane_slopes_, &level);
+        eval_lanes(list, points_.data(), points_.size(), quarter_points_, &level);
         for (std::size_t l = 0; l < form_of_.size(); ++l) {
             Level::Scanned& z = level.scanned[form_of_[l]];
             const UpInterval& e = lane_values_[l];
@@ -1567,7 +1679,7 @@ std::size_t Walker::decide_monotone(const Ssa& list, Level& level) {
         points_.push_back(lane_box(full, mo.lo, mo.lo));
         points_.push_back(lane_box(full, mo.hi, mo.hi));
     }
-    eval_lanes(list, points_.data(), points_.size(), quarter_points_);
+    eval_lanes(list, points_.data(), points_.size(), quarter_points_, &level);
     std::size_t spared = 0, open = 0;
     for (std::size_t k = 0; k < monotone_.size(); ++k) {
         Monotone& mo = monotone_[k];
@@ -1607,7 +1719,7 @@ std::size_t Walker::decide_monotone(const Ssa& list, Level& level) {
         }
         monotone_.resize(open);
         if (open == 0) break;
-        eval_lanes(list, points_.data(), points_.size(), quarter_points_);
+        eval_lanes(list, points_.data(), points_.size(), quarter_points_, &level);
         open = 0;
         for (std::size_t k = 0; k < monotone_.size(); ++k) {
             Monotone& mo = monotone_[k];
@@ -1890,6 +2002,8 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.wide_forms += s.wide_forms;
         total.segment_forms += s.segment_forms;
         total.monotone_segments += s.monotone_segments;
+        total.folds += s.folds;
+        total.folded_instructions += s.folded_instructions;
     }
     for (std::size_t k = 0; k < pixels; ++k) {
         st.hit += ans.status[k] == Status::Hit;

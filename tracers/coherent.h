@@ -142,6 +142,20 @@ struct CoherentOptions {
     /// one zero (the solid: g decreasing from ≥ 0 to < 0, its one entry), halved at points until
     /// the bracket is a piece deep (Hit). The answers keep their meaning. Off: the pieces.
     bool monotone_segments = true;
+    /// The scans in lanes of a node whose list has at least this many instructions walk it folded
+    /// to the node's box (expr::fold_ssa): the subexpressions whose enclosures over the box are at
+    /// most a thousandth of f's wide become inputs fixed at those enclosures, when that drops an
+    /// eighth of the list or more and the folded list's enclosure at the box's centre stays within
+    /// a thousandth of f's width (else the same with a 32nd of the width, twice). Tried in each
+    /// root tile while it pays (the first 4 nodes, then while half of them fold, else one in 16).
+    /// The scan's pieces, points and mean value forms are then enclosures of f that the fixed
+    /// inputs widen a little (the forms hold with the inputs' derivatives taken as 0:
+    /// expr/prune.h); the solver, the normals and deeper nodes' boxes keep the list itself. The
+    /// answers keep their meaning. 128: Barth's, the colonnade's and the gyroid's lists of 10–40
+    /// have nothing to fold, the particles' of about 80 drop a fifth and took 1–2% longer, Fidget's
+    /// bear's of about 380 drop 40% and take 20% less time (docs/benchmarks.md, session 17).
+    /// 0: never.
+    unsigned fold_lists = 128;
     /// A hit's normal is the gradient at the hit of the pruned list that answered it. On: the hits
     /// of one scan in lanes get theirs together once the scan returns (16 at most per walk), from
     /// one walk of Dual<double, 3> lanes (expr/eval_dual_batch.h), each the same bits as a walk of
@@ -175,6 +189,10 @@ struct CoherentStats {
     std::uint64_t segment_forms = 0;
     /// of those tried: strictly monotone segments whose ends bracket a zero (monotone_segments)
     std::uint64_t monotone_segments = 0;
+    /// scans in lanes whose list was folded to the node's box (CoherentOptions::fold_lists), and
+    /// the instructions that dropped from their lists in all
+    std::uint64_t folds = 0;
+    std::uint64_t folded_instructions = 0;
     std::uint64_t tape_length = 0;  ///< instructions of the full tape
 };
 

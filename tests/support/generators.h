@@ -11,6 +11,7 @@
 #include <rapidcheck.h>
 
 #include <algorithm>
+#include <array>
 #include <cfenv>
 #include <cfloat>
 #include <cmath>
@@ -222,6 +223,27 @@ inline rc::Gen<Ray> gen_ray(int d_den = 50, int tmax_tenths = 50) {
         ray.tmin = 0;
         ray.tmax = *rc::gen::inRange(1, tmax_tenths) / 10.0;
         return ray;
+    });
+}
+
+/// A segment {o + t·u : t ∈ [t0, t1]} on a dyadic grid with few bits — o in [−2, 2]³ and u in
+/// [−1, 1]³ by 64ths, t0 in [−1, 1] and t1 − t0 in (0, 1] by 64ths — so that o + t·u is an exact
+/// double at t0, t1, their middle and eighths between them (the mean value form tests take f
+/// there by MPFR).
+struct DyadicSegment {
+    std::array<double, 3> o, u;
+    double t0, t1;
+};
+inline rc::Gen<DyadicSegment> gen_dyadic_segment() {
+    return rc::gen::exec([] {
+        DyadicSegment s;
+        for (int c = 0; c < 3; ++c) {
+            s.o[c] = *rc::gen::inRange(-128, 129) / 64.0;
+            s.u[c] = *rc::gen::inRange(-64, 65) / 64.0;
+        }
+        s.t0 = *rc::gen::inRange(-64, 65) / 64.0;
+        s.t1 = s.t0 + *rc::gen::inRange(1, 65) / 64.0;
+        return s;
     });
 }
 

@@ -1,6 +1,7 @@
 // The MPFR oracle for tests: see mpfr_oracle.h.
 #include "tests/support/mpfr_oracle.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -64,6 +65,29 @@ bool lipschitz_holds(const expr::Tape& tape, double lambda, const std::array<dou
     const MpfrInterval bound = MpfrInterval(lambda) * sqrt(dist2);
     // The difference's lower end must not exceed the bound's upper end.
     return mpfr_cmp(diff.lo(), bound.hi()) <= 0;
+}
+
+bool mean_value_form_holds(const expr::Tape& tape, const std::array<double, 3>& o,
+                           const std::array<double, 3>& u, double t0, double t1,
+                           const UpInterval& m, const UpInterval& g1) {
+    const double tc = 0.5 * (t0 + t1);
+    for (int k = 0; k <= 8; ++k) {
+        const double tk = t0 + (t1 - t0) * k / 8.0;
+        UpInterval form;
+        {
+            RoundingScope up;
+            form = m + g1 * (UpInterval(tk) - UpInterval(tc));
+        }
+        const MpfrInterval exact = expr::eval<MpfrInterval>(
+            tape, {MpfrInterval(o[0] + tk * u[0]), MpfrInterval(o[1] + tk * u[1]),
+                   MpfrInterval(o[2] + tk * u[2])});
+        if (exact.is_empty()) return false;
+        const double size =
+            std::max(1.0, std::max(std::fabs(exact.lower()), std::fabs(exact.upper())));
+        if (!(exact.upper() - exact.lower() <= 0x1p-100 * size)) continue;
+        if (!encloses(form.lower(), form.upper(), exact)) return false;
+    }
+    return true;
 }
 
 }  // namespace certray::testing

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "expr/tape.h"
+#include "interval/interval.h"
 #include "interval/mpfr_interval.h"
 
 namespace certray::testing {
@@ -37,5 +38,14 @@ std::string describe(const MpfrInterval& x);
 /// both points; false also when f is undefined at either point).
 bool lipschitz_holds(const expr::Tape& tape, double lambda, const std::array<double, 3>& p,
                      const std::array<double, 3>& q);
+
+/// Whether the mean value form m + g1·(t − tc) along the segment {o + t·u : t ∈ [t0, t1]}, tc its
+/// middle, holds f(o + t·u) at the nine t = t0 + k·(t1 − t0)/8 (points exact in double: a
+/// DyadicSegment's, tests/support/generators.h), f by MPFR at 256 bits; false where f is undefined
+/// at one of them. Points where f's value needs more than 100 bits (1e300 + (x² − 1e300): MPFR's
+/// enclosure is wide and says nothing) are skipped.
+bool mean_value_form_holds(const expr::Tape& tape, const std::array<double, 3>& o,
+                           const std::array<double, 3>& u, double t0, double t1,
+                           const UpInterval& m, const UpInterval& g1);
 
 }  // namespace certray::testing

@@ -475,6 +475,75 @@ TEST(Coherent, SegmentFormsKeepEveryAnswerAndSpareEvaluations) {
     EXPECT_GT(brackets, 0u);
 }
 
+TEST(Coherent, FoldedListsKeepTheRootsOfMathematics) {
+    // The unit sphere times a positive factor 1 + Σ exp(−40·|p − c_i|²) with twelve Gaussians
+    // centred beside it: the zero set and the solid are exactly the unit ball's, and the list
+    // (about 180 instructions, nothing to prune) has terms that are all but constant near the
+    // sphere, which the scans fold (CoherentOptions::fold_lists). Seen along −z over [−2, 2]³, a
+    // ray at (x, y) with x² + y² < 1 meets the sphere first at z = √(1 − x² − y²), t = 2 − z:
+    // every Hit holds it, with folding and without, the same statuses, on both surfaces; and so
+    // does the Bear of Fidget's, against the per-ray solver, folded.
+    std::string factor = "1";
+    for (int k = 0; k < 12; ++k) {
+        const double a = 0.5 * k;  // centres on a helix of radius 1.6 around the z axis
+        const double c[3] = {1.6 * std::cos(a), 1.6 * std::sin(a), -1.5 + 0.25 * k};
+        factor += " + exp(-40*((x - " + std::to_string(c[0]) + ")^2 + (y - " +
+                  std::to_string(c[1]) + ")^2 + (z - " + std::to_string(c[2]) + ")^2))";
+    }
+    const expr::Tape tape(expr::parse_expr("(x^2 + y^2 + z^2 - 1)*(" + factor + ")"));
+    ASSERT_GE(tape.size(), 128u);
+    for (Surface surface : {Surface::Zero, Surface::Solid}) {
+        std::vector<RayResult> answers[2];
+        CoherentStats stats[2];
+        for (int fold : {0, 1}) {
+            CoherentOptions o = small_view(Projection::Ortho);
+            o.depth_pixels = 0.5;
+            o.surface = surface;
+            o.fold_lists = fold == 1 ? 128 : 0;
+            render_3d_coherent(tape, o, &stats[fold], &answers[fold]);
+            const PixelRays rays(o);
+            unsigned hits = 0;
+            for (std::size_t k = 0; k < answers[fold].size(); ++k) {
+                Ray ray;
+                ASSERT_TRUE(
+                    rays.ray(static_cast<unsigned>(k % 48), static_cast<unsigned>(k / 48), ray));
+                const double x = ray.o[0], y = ray.o[1], rr = x * x + y * y;
+                const RayResult& r = answers[fold][k];
+                if (rr < 1 - 1e-9) {
+                    ASSERT_EQ(r.status, Status::Hit) << k;
+                    const double t = 2 - std::sqrt(1 - rr);
+                    EXPECT_LE(r.t_lo, t + 1e-12) << k;
+                    EXPECT_GE(r.t_hi, t - 1e-12) << k;
+                    ++hits;
+                } else if (rr > 1 + 1e-9) {
+                    EXPECT_EQ(r.status, Status::Miss) << k;
+                }
+            }
+            EXPECT_GT(hits, 400u);  // π/16 of 48²: 452
+        }
+        for (std::size_t k = 0; k < answers[0].size(); ++k) {
+            EXPECT_EQ(answers[0][k].status, answers[1][k].status) << k;
+        }
+        EXPECT_EQ(stats[0].folds, 0u);
+        EXPECT_GT(stats[1].folds, 0u);
+        EXPECT_GT(stats[1].folded_instructions, stats[1].folds);
+    }
+    const expr::Tape bear(expr::load_graph_file((kScenes / "fidget/bear.vm").string()));
+    for (Projection p : {Projection::Ortho, Projection::Pinhole}) {
+        CoherentOptions o = small_view(p);
+        o.surface = Surface::Solid;
+        o.depth_pixels = 0.5;
+        o.render.width = o.render.height = 32;
+        o.render.bounds = {{{-1, 1}, {-1, 1}, {-1, 1}}};
+        o.render.camera = frame_box(o.render.bounds, 35, 1.0);
+        CoherentStats stats;
+        const Agreement a = against_per_ray(bear, o, false, 1, nullptr, &stats);
+        EXPECT_EQ(a.wrong, 0u) << a.first_wrong;
+        EXPECT_GT(a.rays, 0u);
+        EXPECT_GT(stats.folds, 0u);
+    }
+}
+
 TEST(Coherent, PerRaySolverDefaultsKeepTheAnswers) {
     // The solver's defaults (4-ulp hits, the exact oracle narrowing them) instead of the image
     // options: the same statuses, Hits still consistent.
@@ -708,7 +777,8 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
                                   *rc::gen::inRange(-8, 9) / 8.0};
     const double c = expr::eval<double>(expr::Tape(g), p);
     if (std::isfinite(c)) g.set_output(g.binary(expr::Op::Sub, g.output(), g.constant(c)));
-    if (*rc::gen::arbitrary<bool>()) {
+    const int factor = *rc::gen::inRange(0, 3);
+    if (factor == 1) {
         // Times 2 + x² + 2y² + 3z² > 0: the same zero set and solid, a list long enough for the
         // segment forms and the monotone segments.
         expr::NodeId w = g.constant(2.0);
@@ -717,6 +787,18 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
                          g.binary(expr::Op::Mul, g.constant(axis + 1.0), g.pow(g.var(axis), 2)));
         }
         g.set_output(g.binary(expr::Op::Mul, g.output(), w));
+    } else if (factor == 2) {
+        // Times 1 + exp(−k·|p − q|²) > 0 with q at a corner of the view: a term all but constant
+        // on boxes away from q, which the scans fold (fold_lists).
+        const double k = *rc::gen::element(10.0, 40.0);
+        expr::NodeId d = g.constant(0.0);
+        for (int axis = 0; axis < 3; ++axis) {
+            const expr::NodeId u = g.binary(expr::Op::Sub, g.var(axis), g.constant(1.75));
+            d = g.binary(expr::Op::Add, d, g.pow(u, 2));
+        }
+        const expr::NodeId e = g.unary(expr::Op::Exp, g.binary(expr::Op::Mul, g.constant(-k), d));
+        g.set_output(
+            g.binary(expr::Op::Mul, g.output(), g.binary(expr::Op::Add, g.constant(1.0), e)));
     }
     const expr::Tape tape(g);
     CoherentOptions o = small_view(*rc::gen::element(Projection::Pinhole, Projection::Ortho));
@@ -729,6 +811,7 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     o.tile_pieces = *rc::gen::arbitrary<bool>();
     o.segment_forms = *rc::gen::arbitrary<bool>();
     o.monotone_segments = *rc::gen::arbitrary<bool>();
+    o.fold_lists = *rc::gen::element(0u, 4u, 16u, 128u);  // 4: folded wherever it drops enough
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
     o.certified = image_solver_options();
     o.certified.budget = 2000;
@@ -741,6 +824,7 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     RC_TAG(stats.segment_forms > 0 ? "segment forms proved segments" : "no segment form");
     RC_TAG(stats.monotone_segments > 0 ? "zeros bracketed on monotone segments"
                                        : "no monotone bracket");
+    RC_TAG(stats.folds > 0 ? "lists folded" : "no fold");
 }
 
 RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
@@ -770,11 +854,14 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     o.tile_pieces = *rc::gen::arbitrary<bool>();
     o.segment_forms = *rc::gen::arbitrary<bool>();
     o.monotone_segments = *rc::gen::arbitrary<bool>();
+    o.fold_lists = *rc::gen::element(0u, 4u, 16u, 128u);
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
     o.certified.budget = 2000;  // the image options otherwise
-    const Agreement a = against_per_ray(tape, o);
+    CoherentStats stats;
+    const Agreement a = against_per_ray(tape, o, false, 1, nullptr, &stats);
     RC_ASSERT(a.wrong == 0u);
     RC_TAG(a.undecided == 0 ? "all agree" : "some undecided");
+    RC_TAG(stats.folds > 0 ? "lists folded" : "no fold");
 }
 
 }  // namespace

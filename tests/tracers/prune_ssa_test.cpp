@@ -7,7 +7,9 @@
 // and — the property the quadtree's exactness rests on — when every intermediate enclosure over
 // the box is bounded and defined, its double value at every point of the box is the full list's,
 // bit for bit. Pruning a pruned list again (slots then no longer in list order) keeps all of that;
-// a lane of a QuadInterval walk prunes exactly as a scalar walk over that lane's box.
+// a lane of a QuadInterval walk prunes exactly as a scalar walk over that lane's box. fold_ssa:
+// the folded list, its fixed slots filled, encloses f's MPFR value at points of sub-boxes of the
+// box (and is well formed), and its tangent list's mean value forms hold for f along segments.
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
 #include <rapidcheck/gtest.h>
@@ -21,6 +23,7 @@
 #include "expr/eval.h"
 #include "expr/graph.h"
 #include "expr/prune.h"
+#include "expr/tangent.h"
 #include "expr/tape.h"
 #include "interval/dual.h"
 #include "interval/interval.h"
@@ -378,6 +381,191 @@ TEST(PruneSsa, MaxOfXAndMinusXBecomesAbsoluteValue) {
     for (double x : {0.4, 0.45, 0.5, 0.55, 0.6}) {
         EXPECT_EQ(at(out, {x, 0.25, 0.0}), std::fabs(x - 0.5)) << x;
         EXPECT_EQ(at(out, {x, 0.25, 0.0}), at(t.ssa(), {x, 0.25, 0.0})) << x;
+    }
+}
+
+// ---- fold_ssa -----------------------------------------------------------------------------------
+
+/// The folded list's walk over b (fixed slots filled), every slot's enclosure.
+std::vector<UpInterval> enclose_folded(const FoldedList& f, std::size_t slots, const Box& b) {
+    std::vector<UpInterval> v(slots);
+    for (const auto& [slot, x] : f.fixed) v[slot] = x;
+    RoundingScope scope;
+    const std::array<UpInterval, 3> box{UpInterval(b[0].first, b[0].second),
+                                        UpInterval(b[1].first, b[1].second),
+                                        UpInterval(b[2].first, b[2].second)};
+    detail::run<UpInterval>(f.list, box, v.data());
+    return v;
+}
+
+/// `folded` of `ssa` (enclosures `v`, width `width`): the output kept last, every operand written
+/// before it is read or fixed, no fixed slot written, each fixed value the slot's enclosure,
+/// defined, bounded and at most `width` wide.
+void check_folded_form(const Ssa& ssa, const std::vector<UpInterval>& v, double width,
+                       const FoldedList& folded) {
+    RC_ASSERT(!folded.list.empty());
+    RC_ASSERT(folded.list.back().out == ssa.back().out);
+    std::vector<bool> ready(ssa.size(), false);
+    for (const auto& [slot, x] : folded.fixed) {
+        RC_ASSERT(slot < ssa.size());
+        RC_ASSERT(!ready[slot]);
+        ready[slot] = true;
+        RC_ASSERT(x.lower() == v[slot].lower() && x.upper() == v[slot].upper());
+        RC_ASSERT(x.defined && std::isfinite(x.lower()) && std::isfinite(x.upper()));
+        RC_ASSERT(x.upper() - x.lower() <= width);
+    }
+    for (const Instr& in : folded.list) {
+        const int k = arity(in.op);
+        if (k >= 1) RC_ASSERT(in.a < ssa.size() && ready[in.a]);
+        if (k == 2) RC_ASSERT(in.b < ssa.size() && ready[in.b]);
+        RC_ASSERT(in.out < ssa.size() && !ready[in.out]);
+        ready[in.out] = true;
+    }
+}
+
+/// A width to fold at: a power of two times the output's width, or an absolute one.
+double gen_fold_width(const std::vector<UpInterval>& v, const Ssa& ssa) {
+    const UpInterval& f = v[ssa.back().out];
+    const double w = f.upper() - f.lower();
+    if (*rc::gen::arbitrary<bool>() && std::isfinite(w)) {
+        return std::ldexp(w, -*rc::gen::inRange(0, 30));
+    }
+    return *rc::gen::element(0.0, 1e-9, 1e-3, 1.0, 1e300);
+}
+
+RC_GTEST_PROP(FoldSsa, FoldedListEnclosesTheFunctionOnSubBoxes, ()) {
+    const Tape t(*testing::gen_dag(40));
+    const Box b = *gen_box();
+    bool finite = false;
+    std::vector<UpInterval> v = enclose(t.ssa(), b, finite);
+    // Half the time a pruned list (slots not in list order), as the renderer folds.
+    PruneWorkspace ws;
+    Ssa pruned_list;
+    const Ssa& ssa = *rc::gen::arbitrary<bool>() && prune_ssa(t.ssa(), v.data(), ws, pruned_list)
+                         ? pruned_list
+                         : t.ssa();
+    if (&ssa == &pruned_list) v = enclose(ssa, b, finite);
+    const double width = gen_fold_width(v, ssa);
+    FoldedList folded;
+    const std::size_t dropped = fold_ssa(ssa, v.data(), width, folded);
+    RC_TAG(dropped > 0 ? "folded" : "nothing to fold");
+    if (dropped == 0) {
+        RC_ASSERT(folded.list.empty() && folded.fixed.empty());
+        return;
+    }
+    RC_ASSERT(dropped == ssa.size() - folded.list.size());
+    check_folded_form(ssa, v, width, folded);
+    // At a point p of the box, over a sub-box holding p and over p itself: f's exact value lies
+    // in the enclosure, and a defined enclosure means f is defined there.
+    const std::array<double, 3> p = gen_point(b);
+    const MpfrInterval exact = at_mpfr(ssa, p);
+    for (const Box& inner : {sub_box(b, p), Box{{{p[0], p[0]}, {p[1], p[1]}, {p[2], p[2]}}}}) {
+        const std::vector<UpInterval> w = enclose_folded(folded, ssa.size(), inner);
+        const UpInterval& e = w[ssa.back().out];
+        if (e.defined) RC_ASSERT(!exact.is_empty());
+        if (exact.is_empty()) continue;
+        const double size =
+            std::max(1.0, std::max(std::fabs(exact.lower()), std::fabs(exact.upper())));
+        if (!(exact.upper() - exact.lower() <= 0x1p-100 * size)) continue;  // beyond MPFR's bits
+        RC_ASSERT(testing::encloses(e.lower(), e.upper(), exact));
+    }
+}
+
+/// The renderer's mean value form on a folded list (tracers/coherent.cpp): over a segment
+/// {o + t·u : t ∈ [t0, t1]} inside the box the list was folded to, g(t) ∈ g(tc) + G′·(t − tc),
+/// with g(tc) and G′ from the folded list's tangent list (the fixed inputs' derivatives 0),
+/// wherever its value over the segment is defined and G′ finite. Dyadic o, u and t keep every
+/// point exact.
+RC_GTEST_PROP(FoldSsa, MeanValueFormsOfAFoldedListHoldAlongSegments, ()) {
+    const Tape t(*testing::gen_dag(16, /*smooth=*/*rc::gen::arbitrary<bool>()));
+    const auto [o, u, t0, t1] = *testing::gen_dyadic_segment();
+    const double tc = 0.5 * (t0 + t1);
+    // Folded to a box around the segment (the renderer's node box holds its rays' segments).
+    Box b, seg, centre;
+    for (int c = 0; c < 3; ++c) {
+        const double e0 = o[c] + t0 * u[c], e1 = o[c] + t1 * u[c];  // exact: dyadic, few bits
+        const double margin = *rc::gen::inRange(0, 9) / 8.0;
+        seg[c] = {std::min(e0, e1), std::max(e0, e1)};
+        b[c] = {seg[c].first - margin, seg[c].second + margin};
+        centre[c] = {o[c] + tc * u[c], o[c] + tc * u[c]};
+    }
+    bool finite = false;
+    const std::vector<UpInterval> v = enclose(t.ssa(), b, finite);
+    FoldedList folded;
+    if (fold_ssa(t.ssa(), v.data(), gen_fold_width(v, t.ssa()), folded) == 0) return;
+    const std::optional<TangentList> tl = tangent_list(folded.list);
+    RC_ASSERT(tl.has_value());
+    const auto run = [&](const Box& x) {
+        std::vector<UpInterval> r(tl->slots);
+        for (const auto& [slot, fx] : folded.fixed) r[slot] = fx;
+        RoundingScope up;
+        for (int c = 0; c < 3; ++c) r[tl->seed[c]] = UpInterval(u[c]);
+        detail::run<UpInterval>(
+            tl->list,
+            {UpInterval(x[0].first, x[0].second), UpInterval(x[1].first, x[1].second),
+             UpInterval(x[2].first, x[2].second)},
+            r.data());
+        return std::pair{r[tl->value], r[tl->derivative]};
+    };
+    const auto [e, g1] = run(seg);
+    const auto [m, unused] = run(centre);
+    if (!e.defined || !m.defined || !std::isfinite(g1.lower()) || !std::isfinite(g1.upper())) {
+        return;
+    }
+    RC_TAG(tl->smooth ? "smooth" : "kinks");
+    RC_ASSERT(testing::mean_value_form_holds(t, o, u, t0, t1, m, g1));
+}
+
+TEST(FoldSsa, ANarrowSubexpressionBecomesAnInput) {
+    // x + exp(y − 100) over [0, 1]²: exp(y − 100) ∈ [e⁻¹⁰⁰, e⁻⁹⁹], about 6e−44 wide, folds at
+    // width 1e−3; y, 100, y − 100 and exp drop, and the list is x + [e⁻¹⁰⁰, e⁻⁹⁹].
+    Graph g;
+    const NodeId e = g.unary(Op::Exp, g.binary(Op::Sub, g.var(1), g.constant(100.0)));
+    g.set_output(g.binary(Op::Add, g.var(0), e));
+    const Tape t(g);
+    const Box b{{{0.0, 1.0}, {0.0, 1.0}, {0.0, 0.0}}};
+    bool finite = false;
+    const std::vector<UpInterval> v = enclose(t.ssa(), b, finite);
+    FoldedList folded;
+    EXPECT_EQ(fold_ssa(t.ssa(), v.data(), 1e-3, folded), 4u);
+    ASSERT_EQ(folded.list.size(), 2u);
+    EXPECT_EQ(folded.list[0].op, Op::VarX);
+    EXPECT_EQ(folded.list[1].op, Op::Add);
+    ASSERT_EQ(folded.fixed.size(), 1u);
+    EXPECT_LE(folded.fixed[0].second.lower(), std::exp(-100.0));
+    EXPECT_GE(folded.fixed[0].second.upper(), std::exp(-99.0));
+    EXPECT_LT(folded.fixed[0].second.upper(), 1e-42);
+    // At x = 1/2 the folded list encloses 1/2 + e^(y − 100) for every y: [1/2, 1/2 + 1e−42].
+    const std::vector<UpInterval> w =
+        enclose_folded(folded, t.ssa().size(), Box{{{0.5, 0.5}, {0.0, 1.0}, {0.0, 0.0}}});
+    EXPECT_EQ(w[t.ssa().back().out].lower(), 0.5);
+    EXPECT_LE(w[t.ssa().back().out].upper(), 0.5 + 1e-15);
+    // Width 0 folds nothing that varies: only the output's operands that are points (none here).
+    EXPECT_EQ(fold_ssa(t.ssa(), v.data(), 0.0, folded), 0u);
+    EXPECT_TRUE(folded.list.empty());
+}
+
+TEST(FoldSsa, AnUndefinedOrUnboundedSubexpressionStays) {
+    // sqrt(y) + x over y ∈ [−1, 0] (sqrt(y) defined at y = 0 only) and log(y) + x over
+    // y ∈ [0, 0] (log 0 = −∞): however wide the width, the square root and the log stay in the
+    // list (their operand y, defined and bounded, may become an input).
+    for (Op op : {Op::Sqrt, Op::Log}) {
+        Graph g;
+        g.set_output(g.binary(Op::Add, g.unary(op, g.var(1)), g.var(0)));
+        const Tape t(g);
+        const double lo = op == Op::Sqrt ? -1.0 : 0.0;
+        bool finite = false;
+        const std::vector<UpInterval> v =
+            enclose(t.ssa(), Box{{{0.0, 1.0}, {lo, 0.0}, {0.0, 0.0}}}, finite);
+        FoldedList folded;
+        EXPECT_GT(fold_ssa(t.ssa(), v.data(), 1e300, folded), 0u);
+        EXPECT_EQ(std::count_if(folded.list.begin(), folded.list.end(),
+                                [op](const Instr& in) { return in.op == op; }),
+                  1)
+            << static_cast<int>(op);
+        for (const auto& [slot, x] : folded.fixed) {
+            EXPECT_TRUE(x.defined && std::isfinite(x.lower()) && std::isfinite(x.upper()));
+        }
     }
 }
 
