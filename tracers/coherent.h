@@ -129,7 +129,8 @@ struct CoherentOptions {
     /// pieces of its own. Off: each ray's own pieces only.
     bool tile_pieces = true;
     /// Scans of rays on a smooth list (a tangent list without kinks, expr/tangent.h, of at least
-    /// 8 instructions) first take the mean value form in t over each ray's whole segment (one
+    /// 8 instructions), or on a list with kinks that fold_lists folded (Clarke's derivative at the
+    /// kinks), first take the mean value form in t over each ray's whole segment (one
     /// lane of a walk of the tangent list over the segment, one of the list at its middle; for
     /// segments of at least 4 pieces): a segment it proves free needs no pieces. Tried in each
     /// root tile while it pays (the first 4 scans, then while half the scans spare pieces worth

@@ -481,8 +481,8 @@ TEST(Coherent, FoldedListsKeepTheRootsOfMathematics) {
     // (about 180 instructions, nothing to prune) has terms that are all but constant near the
     // sphere, which the scans fold (CoherentOptions::fold_lists). Seen along −z over [−2, 2]³, a
     // ray at (x, y) with x² + y² < 1 meets the sphere first at z = √(1 − x² − y²), t = 2 − z:
-    // every Hit holds it, with folding and without, the same statuses, on both surfaces; and so
-    // does the Bear of Fidget's, against the per-ray solver, folded.
+    // every Hit holds it, with folding and without, the same statuses, on both surfaces. Fidget's
+    // bear, folded, agrees with the per-ray solver.
     std::string factor = "1";
     for (int k = 0; k < 12; ++k) {
         const double a = 0.5 * k;  // centres on a helix of radius 1.6 around the z axis
@@ -541,6 +541,8 @@ TEST(Coherent, FoldedListsKeepTheRootsOfMathematics) {
         EXPECT_EQ(a.wrong, 0u) << a.first_wrong;
         EXPECT_GT(a.rays, 0u);
         EXPECT_GT(stats.folds, 0u);
+        // Its folded lists have kinks (max, min): their segment forms hold Clarke's derivative.
+        EXPECT_GT(stats.segment_forms, 0u);
     }
 }
 
