@@ -462,7 +462,8 @@ class Walker {
     static constexpr std::size_t kLongList = 200;
     /// At most this many pieces a leaf segment is scanned in; longer ones go to the solver.
     static constexpr int kMaxPieces = 8;
-    /// ... their subexpressions at most this fraction of f's width over the box wide ...
+    /// fold(): the subexpressions at most this fraction of f's width over the node's box wide
+    /// become inputs (CoherentOptions::fold_lists) ...
     static constexpr double kFoldWidth = 1e-3;
     /// ... where the folded list's enclosure at the box's centre is at most this fraction of it.
     static constexpr double kFoldCentre = 1e-3;
