@@ -90,6 +90,29 @@ constexpr std::uint8_t kMaxSplits = 24;
 
 /// The buffers of one depth of the descent: the slot enclosures of the node's box evaluation,
 /// the list pruned to that box, and the register tape a leaf builds from it.
+/// A list's tangent list (expr/tangent.h; none when the list has an op without a rule) and its
+/// kind (expr::tangent_kind), each made once asked for; forgotten when the list is rewritten.
+struct TangentCache {
+    std::optional<expr::TangentList> tangent;
+    bool known = false;
+    std::optional<expr::TangentKind> kind;
+    const expr::TangentList* of(const Ssa& list) {
+        if (!known) {
+            tangent = expr::tangent_list(list);
+            known = true;
+        }
+        return tangent ? &*tangent : nullptr;
+    }
+    expr::TangentKind kind_of(const Ssa& list) {
+        if (!kind) kind = expr::tangent_kind(list);
+        return *kind;
+    }
+    void forget() {
+        known = false;
+        kind.reset();
+    }
+};
+
 struct Level {
     std::vector<UpInterval> values;
     Ssa list;
@@ -102,18 +125,11 @@ struct Level {
         std::size_t begin, end;  ///< its pieces: Walker::pieces_[begin, end)
     };
     std::vector<Scanned> scanned;
-    /// The tangent list of `list`, once asked for (expr/tangent.h; none when `list` has an op
-    /// without a rule); unknown again when the list is rewritten.
-    std::optional<expr::TangentList> tangent;
-    bool tangent_known = false;
-    /// expr::tangent_kind(list), once asked for.
-    std::optional<expr::TangentKind> kind;
+    TangentCache tangent;  ///< of `list`
     /// The list that this level's scan in lanes walks (Walker::fold): folded to the node's box
-    /// (expr::fold_ssa), or empty (the list itself); its tangent list and kind as above.
+    /// (expr::fold_ssa), or empty (the list itself).
     expr::FoldedList folded;
-    std::optional<expr::TangentList> folded_tangent;
-    bool folded_tangent_known = false;
-    std::optional<expr::TangentKind> folded_kind;
+    TangentCache folded_tangent;  ///< of folded.list
 };
 
 bool splittable(double a, double b) {
@@ -262,13 +278,12 @@ class Walker {
                     std::vector<UpInterval>& out, const Level* fold = nullptr);
     /// Writes the fixed values of level.folded into lanes 0 … m − 1 of their slots.
     void load_fixed(const Level& level, int m);
-    /// level.folded for the scan in lanes of `sub` (the node's list: `list` pruned when
-    /// `pruned`) over `box`, from level.values (`list`'s enclosures over it): the subexpressions
-    /// narrower than kFoldWidth times f's enclosure become inputs where the folded list's value at
-    /// the box's centre stays within kFoldCentre of it (three tries, each a 32nd of the width
-    /// before); empty otherwise.
-    void fold(const Ssa& list, const Ssa& sub, bool pruned, const std::array<UpInterval, 3>& box,
-              Level& level);
+    /// level.folded for the scan in lanes of `sub` over `box`, from level.values: `sub` is the
+    /// list the node evaluated into level.values, or level.list, that list pruned by the
+    /// node's prune_ssa (prune_ws_ as it left it). The subexpressions narrower than kFoldWidth
+    /// times f's enclosure become inputs where the folded list's value at the box's centre stays
+    /// within kFoldCentre of it (three tries, each a 32nd of the width before); empty otherwise.
+    void fold(const Ssa& sub, const std::array<UpInterval, 3>& box, Level& level);
     /// tangent_kind() and tangent() of what the scan of `list` at this level walks in lanes: the
     /// folded list's where the level has one.
     expr::TangentKind lane_tangent_kind(const Ssa& list, unsigned depth, Level& level);
@@ -891,10 +906,7 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
 
     const Ssa* sub = &list;
     const expr::Tape* sub_tape = tape;
-    if (choices_) {  // level.list may be rewritten
-        level.tangent_known = false;
-        level.kind.reset();
-    }
+    if (choices_) level.tangent.forget();  // level.list may be rewritten
     if (choices_ && expr::prune_ssa(list, level.values.data(), prune_ws_, level.list)) {
         sub = &level.list;
         sub_tape = nullptr;
@@ -909,7 +921,6 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     const bool together =
         count <= plain || (count <= options_.smooth_together_rays && options_.lane_mean_value &&
                            tangent_kind(*sub, depth) == expr::TangentKind::Smooth);
-    if (together) fold(list, *sub, sub != &list, segment_box(olo, ohi, dlo, dhi, a, b), level);
     if (together && scan_together(r, a, b, *sub, sub_tape, level, depth, hull)) {
         return;
     }
@@ -1063,23 +1074,23 @@ void Walker::load_fixed(const Level& level, int m) {
     }
 }
 
-void Walker::fold(const Ssa& list, const Ssa& sub, bool pruned,
-                  const std::array<UpInterval, 3>& box, Level& level) {
+void Walker::fold(const Ssa& sub, const std::array<UpInterval, 3>& box, Level& level) {
     expr::FoldedList& folded = level.folded;
     folded.list.clear();
     folded.fixed.clear();
-    level.folded_tangent_known = false;
-    level.folded_kind.reset();
+    level.folded_tangent.forget();
     if (options_.fold_lists == 0 || sub.size() < options_.fold_lists || !fold_trial_.attempt()) {
         return;
     }
-    // The enclosures of sub's slots over the box: level.values, through prune_ssa's renaming
-    // (a slot that took over a dropped min/max's has the same values on the box).
+    // The enclosures of sub's slots over the box: level.values (the node's list's), through
+    // prune_ssa's renaming where sub is that list pruned (a slot that took over a dropped
+    // min/max's has the same values on the box; prune_ws_.bind has a slot per slot of the
+    // node's list).
     const std::size_t n = sub.size();
     const UpInterval* values = level.values.data();
-    if (pruned) {
+    if (&sub == &level.list) {
         fold_values_.assign(n, UpInterval::empty());
-        for (std::size_t i = 0; i < list.size(); ++i) {
+        for (std::size_t i = 0; i < prune_ws_.bind.size(); ++i) {
             const std::uint32_t s = prune_ws_.bind[i];
             if (s < n) fold_values_[s] = level.values[i];
         }
@@ -1111,17 +1122,12 @@ void Walker::fold(const Ssa& list, const Ssa& sub, bool pruned,
 
 expr::TangentKind Walker::lane_tangent_kind(const Ssa& list, unsigned depth, Level& level) {
     if (level.folded.list.empty()) return tangent_kind(list, depth);
-    if (!level.folded_kind) level.folded_kind = expr::tangent_kind(level.folded.list);
-    return *level.folded_kind;
+    return level.folded_tangent.kind_of(level.folded.list);
 }
 
 const expr::TangentList* Walker::lane_tangent(const Ssa& list, unsigned depth, Level& level) {
     if (level.folded.list.empty()) return tangent(list, depth);
-    if (!level.folded_tangent_known) {
-        level.folded_tangent = expr::tangent_list(level.folded.list);
-        level.folded_tangent_known = true;
-    }
-    return level.folded_tangent ? &*level.folded_tangent : nullptr;
+    return level.folded_tangent.of(level.folded.list);
 }
 
 const expr::TangentList* Walker::tangent(const Ssa& list, unsigned depth) {
@@ -1130,11 +1136,7 @@ const expr::TangentList* Walker::tangent(const Ssa& list, unsigned depth) {
     if (&list == &tape_.ssa()) return tape_tangent_ ? &*tape_tangent_ : nullptr;
     Level* owner = owner_of(list, depth);
     if (owner == nullptr) return nullptr;
-    if (!owner->tangent_known) {
-        owner->tangent = expr::tangent_list(list);
-        owner->tangent_known = true;
-    }
-    return owner->tangent ? &*owner->tangent : nullptr;
+    return owner->tangent.of(list);
 }
 
 Level* Walker::owner_of(const Ssa& list, unsigned depth) {
@@ -1151,8 +1153,7 @@ expr::TangentKind Walker::tangent_kind(const Ssa& list, unsigned depth) {
     }
     Level* owner = owner_of(list, depth);
     if (owner == nullptr) return K::None;
-    if (!owner->kind) owner->kind = expr::tangent_kind(list);
-    return *owner->kind;
+    return owner->tangent.kind_of(list);
 }
 
 void Walker::eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxes,
@@ -1209,6 +1210,8 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
             segments_.push_back({i, j, s.tmin, s.tmax});
         }
     }
+    // Scanned: the list its lanes walk, folded to the node's box where that pays.
+    fold(list, segment_box(hull.olo, hull.ohi, hull.dlo, hull.dhi, a, b), level);
     // Tile pieces: [a, b] cut in pieces of the narrowest width, each one box over all the rays
     // (the hull's), in one batched evaluation. A piece proven free is free on every ray; a ray's
     // first piece not proven free decides it when the piece after it is proven inside (solid:
@@ -1659,7 +1662,9 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
                 spared += prove_free(z);
             } else if (options_.monotone_segments && e.defined && finite(g1) &&
                        (g1.lower() > 0 || g1.upper() < 0)) {
-                // g is C¹ on the segment and g′ keeps one strict sign: g is strictly monotone.
+                // g′ (Clarke's at kinks) keeps one strict sign: g is strictly monotone (on a
+                // folded list h(·, s) is, for each value s of the fixed inputs, which is what
+                // decide_monotone() needs: docs/theory/coherent.md).
                 monotone_.push_back({form_of_[l], z.s.tmin, z.s.tmax, 0, g1.upper() < 0});
             }
         }
@@ -1674,7 +1679,8 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
 
 std::size_t Walker::decide_monotone(const Ssa& list, Level& level) {
     // g at both ends (one batched walk). Ends of one strict sign (the solid: both ≥ 0) prove the
-    // segment free; ends of strict opposite signs (the zero set) hold exactly one zero, bracketed
+    // segment free; ends of strict opposite signs (the zero set) hold a zero (exactly one unless
+    // the list is folded), bracketed
     // by halving [lo, hi] at points (a walk per round) until it is as deep as a piece: Hit
     // [lo, hi], with none before lo (g keeps g(lo)'s strict sign on [a, lo]). The solid's g
     // decreasing from g(a) ≥ 0 to g(b) < 0 enters once, bracketed alike (g(lo) ≥ 0, g(hi) < 0).

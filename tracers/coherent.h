@@ -139,9 +139,10 @@ struct CoherentOptions {
     bool segment_forms = true;
     /// With the segment forms, a segment that they do not prove free but on which the derivative
     /// along the ray keeps one strict sign (g strictly monotone) is decided by points: ends of one
-    /// strict sign prove it free (the solid: both ≥ 0), ends of strict opposite signs bracket its
-    /// one zero (the solid: g decreasing from ≥ 0 to < 0, its one entry), halved at points until
-    /// the bracket is a piece deep (Hit). The answers keep their meaning. Off: the pieces.
+    /// strict sign prove it free (the solid: both ≥ 0), ends of strict opposite signs bracket a
+    /// zero with none before it (the solid: g decreasing from ≥ 0 to < 0, an entry), halved at
+    /// points until the bracket is a piece deep (Hit). The answers keep their meaning. Off: the
+    /// pieces.
     bool monotone_segments = true;
     /// The scans in lanes of a node whose list has at least this many instructions walk it folded
     /// to the node's box (expr::fold_ssa): the subexpressions whose enclosures over the box are at

@@ -540,7 +540,7 @@ TEST(FoldSsa, ANarrowSubexpressionBecomesAnInput) {
         enclose_folded(folded, t.ssa().size(), Box{{{0.5, 0.5}, {0.0, 1.0}, {0.0, 0.0}}});
     EXPECT_EQ(w[t.ssa().back().out].lower(), 0.5);
     EXPECT_LE(w[t.ssa().back().out].upper(), 0.5 + 1e-15);
-    // Width 0 folds nothing that varies: only the output's operands that are points (none here).
+    // Width 0 folds only subexpressions that are points on the box (none here).
     EXPECT_EQ(fold_ssa(t.ssa(), v.data(), 0.0, folded), 0u);
     EXPECT_TRUE(folded.list.empty());
 }
