@@ -300,18 +300,18 @@ const Scene kLong[] = {{CERTRAY_SCENES_DIR "/fidget/bear.vm", -1, 1},
                        {CERTRAY_SCENES_DIR "/particles.txt", -2, 2},
                        {CERTRAY_SCENES_DIR "/test.json", -1, 1}};
 
-/// The coherent image of a long-list scene with the lists of its scans folded to their boxes
-/// (CoherentOptions::fold_lists, 128) or not (0), for interleaved runs as BM_Option. Arguments:
-/// scene (kLong), side, ortho, solid, fold. Counters: folds per pixel and the instructions a fold
-/// drops on average.
-void BM_Fold(benchmark::State& state) {
+/// The coherent image of a long-list scene (kLong) from the arguments scene, side, ortho, solid,
+/// with `set` applied to the options, and its folds' counters: folds per pixel, the instructions
+/// a fold drops on average, the scans of folded_together_rays per pixel.
+template <class Set>
+void long_image(benchmark::State& state, Set set) {
     static const std::vector<expr::Tape> tapes = tapes_of(kLong);
     const expr::Tape& tape = tapes[static_cast<std::size_t>(state.range(0))];
     const unsigned side = static_cast<unsigned>(state.range(1));
     tracers::CoherentOptions o = image_of(tape, kLong[state.range(0)], side);
     o.projection = state.range(2) != 0 ? tracers::Projection::Ortho : tracers::Projection::Pinhole;
     o.surface = state.range(3) != 0 ? tracers::Surface::Solid : tracers::Surface::Zero;
-    o.fold_lists = state.range(4) != 0 ? 128 : 0;
+    set(o);
     tracers::RenderResult r;
     tracers::CoherentStats s;
     for (auto _ : state) {
@@ -323,6 +323,14 @@ void BM_Fold(benchmark::State& state) {
     state.counters["folds/px"] = static_cast<double>(s.folds) / px;
     state.counters["dropped"] =
         s.folds > 0 ? static_cast<double>(s.folded_instructions) / s.folds : 0;
+    state.counters["wide/px"] = static_cast<double>(s.folded_scans) / px;
+}
+
+/// The lists of the scans folded to their boxes (CoherentOptions::fold_lists, 128) or not (0),
+/// for interleaved runs as BM_Option. Arguments: scene (kLong), side, ortho, solid, fold.
+void BM_Fold(benchmark::State& state) {
+    long_image(state,
+               [&](tracers::CoherentOptions& o) { o.fold_lists = state.range(4) != 0 ? 128 : 0; });
 }
 
 // Arguments: scene (kLong), side, ortho, solid, fold.
@@ -338,6 +346,29 @@ BENCHMARK(BM_Fold)
     ->Args({2, 512, 0, 0, 1})
     ->Args({3, 512, 0, 1, 0})
     ->Args({3, 512, 0, 1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+
+/// Nodes of up to `rays` rays scanned together where their list folds
+/// (CoherentOptions::folded_together_rays; 0: as together_rays allows), for interleaved runs.
+/// Arguments: scene (kLong), side, ortho, solid, rays.
+void BM_FoldedTogether(benchmark::State& state) {
+    long_image(state, [&](tracers::CoherentOptions& o) {
+        o.folded_together_rays = static_cast<unsigned>(state.range(4));
+    });
+}
+
+// Arguments: scene (kLong), side, ortho, solid, rays.
+BENCHMARK(BM_FoldedTogether)
+    ->ArgNames({"scene", "side", "ortho", "solid", "rays"})
+    ->ArgsProduct({{0}, {256, 512}, {0, 1}, {1}, {0, 64, 128}})
+    ->Args({1, 128, 0, 1, 0})
+    ->Args({1, 128, 0, 1, 64})
+    ->Args({2, 512, 0, 0, 0})
+    ->Args({2, 512, 0, 0, 64})
+    ->Args({3, 512, 0, 1, 0})
+    ->Args({3, 512, 0, 1, 64})
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime();

@@ -253,9 +253,10 @@ class Walker {
     /// Each ray is decided as scan() decides it (the same enclosures, bit for bit; with the
     /// list's tangent list, the mean value forms from lanes too, on every later undecided piece),
     /// settled as leaf() settles it. False, with nothing evaluated, when a ray's segment is too
-    /// long.
+    /// long; `folded_only`: also (the fold's evaluations aside) when the list does not fold to
+    /// the node's box.
     bool scan_together(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
-                       Level& level, unsigned depth, const Hull& hull);
+                       Level& level, unsigned depth, const Hull& hull, bool folded_only = false);
     /// scan_together()'s segment forms (CoherentOptions::segment_forms) on the rays of
     /// level.scanned not yet decided, where `list` (kept at `depth`) is smooth and the root tile's
     /// trial allows: a segment proven free is left empty (no pieces); with monotone_segments, the
@@ -924,6 +925,13 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     if (together && scan_together(r, a, b, *sub, sub_tape, level, depth, hull)) {
         return;
     }
+    // More rays still, where the list folds to the node's box: the folded list's walks are
+    // shorter, and one box, prune and fold serve them all.
+    if (!together && count <= options_.folded_together_rays &&
+        scan_together(r, a, b, *sub, sub_tape, level, depth, hull, true)) {
+        ++stats.folded_scans;
+        return;
+    }
     if (count > 1 && depth + 1 < kMaxDepth) {
         // How far apart the rays are at the far end, plus a pixel: the box's lateral extent.
         double spread_o = 0, spread_d = 0;
@@ -1182,7 +1190,8 @@ void Walker::eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxe
 }
 
 bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
-                           const expr::Tape* tape, Level& level, unsigned depth, const Hull& hull) {
+                           const expr::Tape* tape, Level& level, unsigned depth, const Hull& hull,
+                           bool folded_only) {
     // The hits of this scan wait for their normals until it returns (a nested scan's own hits
     // until that one returns).
     struct Defer {
@@ -1212,6 +1221,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
     }
     // Scanned: the list its lanes walk, folded to the node's box where that pays.
     fold(list, segment_box(hull.olo, hull.ohi, hull.dlo, hull.dhi, a, b), level);
+    if (folded_only && level.folded.list.empty()) return false;
     // Tile pieces: [a, b] cut in pieces of the narrowest width, each one box over all the rays
     // (the hull's), in one batched evaluation. A piece proven free is free on every ray; a ray's
     // first piece not proven free decides it when the piece after it is proven inside (solid:
@@ -2017,6 +2027,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.monotone_segments += s.monotone_segments;
         total.folds += s.folds;
         total.folded_instructions += s.folded_instructions;
+        total.folded_scans += s.folded_scans;
     }
     for (std::size_t k = 0; k < pixels; ++k) {
         st.hit += ans.status[k] == Status::Hit;

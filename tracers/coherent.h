@@ -117,6 +117,14 @@ struct CoherentOptions {
     /// about 400 instructions) and −10% on the molecule against 8, the colonnade's short lists
     /// untouched (docs/benchmarks.md, session 11).
     unsigned long_together_rays = 16;
+    /// Nodes of more rays than those, up to this many, whose list fold_lists folds to the node's
+    /// box: their rays are scanned together on the folded list (a node whose list does not fold
+    /// is divided further). The folded list's walks are shorter than the list's, and the node's
+    /// one box evaluation, prune and fold serve all its rays. 64 (a root tile's quarter): Fidget's
+    /// bear 512² heightmap 0.87 of the time with 16, pinhole 0.94, 256² heightmap 0.89; the
+    /// molecule, the particles and test.json unchanged (they fold seldom at such nodes); 128 and
+    /// 256 no better (docs/benchmarks.md, session 18). 0: never more than the others.
+    unsigned folded_together_rays = 64;
     /// In those lanes, pieces that their enclosure leaves undecided get the mean value form in t
     /// at once, from a derivative computed in the same batched walk (expr/tangent.h), where the
     /// list has only ops with such a rule (no abs, min, max, …). Off: the form is tried on one
@@ -195,6 +203,8 @@ struct CoherentStats {
     /// the instructions that dropped from their lists in all
     std::uint64_t folds = 0;
     std::uint64_t folded_instructions = 0;
+    /// scans of more rays than together_rays allows, on a folded list (folded_together_rays)
+    std::uint64_t folded_scans = 0;
     std::uint64_t tape_length = 0;  ///< instructions of the full tape
 };
 

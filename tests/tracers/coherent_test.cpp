@@ -493,13 +493,15 @@ TEST(Coherent, FoldedListsKeepTheRootsOfMathematics) {
     const expr::Tape tape(expr::parse_expr("(x^2 + y^2 + z^2 - 1)*(" + factor + ")"));
     ASSERT_GE(tape.size(), 128u);
     for (Surface surface : {Surface::Zero, Surface::Solid}) {
-        std::vector<RayResult> answers[2];
-        CoherentStats stats[2];
-        for (int fold : {0, 1}) {
+        // Not folded; folded; folded, with nodes of 64 rays scanned together.
+        std::vector<RayResult> answers[3];
+        CoherentStats stats[3];
+        for (int fold : {0, 1, 2}) {
             CoherentOptions o = small_view(Projection::Ortho);
             o.depth_pixels = 0.5;
             o.surface = surface;
-            o.fold_lists = fold == 1 ? 128 : 0;
+            o.fold_lists = fold > 0 ? 128 : 0;
+            o.folded_together_rays = fold == 2 ? 64 : 0;
             render_3d_coherent(tape, o, &stats[fold], &answers[fold]);
             const PixelRays rays(o);
             unsigned hits = 0;
@@ -523,17 +525,20 @@ TEST(Coherent, FoldedListsKeepTheRootsOfMathematics) {
         }
         for (std::size_t k = 0; k < answers[0].size(); ++k) {
             EXPECT_EQ(answers[0][k].status, answers[1][k].status) << k;
+            EXPECT_EQ(answers[0][k].status, answers[2][k].status) << k;
         }
         EXPECT_EQ(stats[0].folds, 0u);
         EXPECT_GT(stats[1].folds, 0u);
         EXPECT_GT(stats[1].folded_instructions, stats[1].folds);
+        EXPECT_EQ(stats[1].folded_scans, 0u);
+        EXPECT_GT(stats[2].folded_scans, 0u);
     }
     const expr::Tape bear(expr::load_graph_file((kScenes / "fidget/bear.vm").string()));
     for (Projection p : {Projection::Ortho, Projection::Pinhole}) {
         CoherentOptions o = small_view(p);
         o.surface = Surface::Solid;
         o.depth_pixels = 0.5;
-        o.render.width = o.render.height = 32;
+        o.render.width = o.render.height = 48;
         o.render.bounds = {{{-1, 1}, {-1, 1}, {-1, 1}}};
         o.render.camera = frame_box(o.render.bounds, 35, 1.0);
         CoherentStats stats;
@@ -541,6 +546,7 @@ TEST(Coherent, FoldedListsKeepTheRootsOfMathematics) {
         EXPECT_EQ(a.wrong, 0u) << a.first_wrong;
         EXPECT_GT(a.rays, 0u);
         EXPECT_GT(stats.folds, 0u);
+        EXPECT_GT(stats.folded_scans, 0u);  // nodes of 64 rays scanned on their folded lists
         // Its folded lists have kinks (max, min): their segment forms hold Clarke's derivative.
         EXPECT_GT(stats.segment_forms, 0u);
     }
@@ -814,6 +820,7 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     o.segment_forms = *rc::gen::arbitrary<bool>();
     o.monotone_segments = *rc::gen::arbitrary<bool>();
     o.fold_lists = *rc::gen::element(0u, 4u, 16u, 128u);  // 4: folded wherever it drops enough
+    o.folded_together_rays = *rc::gen::element(0u, 64u, 1024u);  // nodes of up to 1024 rays
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
     o.certified = image_solver_options();
     o.certified.budget = 2000;
@@ -827,6 +834,7 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     RC_TAG(stats.monotone_segments > 0 ? "zeros bracketed on monotone segments"
                                        : "no monotone bracket");
     RC_TAG(stats.folds > 0 ? "lists folded" : "no fold");
+    RC_TAG(stats.folded_scans > 0 ? "wide scans on folded lists" : "no wide scan");
 }
 
 RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
@@ -857,6 +865,7 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     o.segment_forms = *rc::gen::arbitrary<bool>();
     o.monotone_segments = *rc::gen::arbitrary<bool>();
     o.fold_lists = *rc::gen::element(0u, 4u, 16u, 128u);
+    o.folded_together_rays = *rc::gen::element(0u, 64u, 1024u);
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
     o.certified.budget = 2000;  // the image options otherwise
     CoherentStats stats;
@@ -864,6 +873,7 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     RC_ASSERT(a.wrong == 0u);
     RC_TAG(a.undecided == 0 ? "all agree" : "some undecided");
     RC_TAG(stats.folds > 0 ? "lists folded" : "no fold");
+    RC_TAG(stats.folded_scans > 0 ? "wide scans on folded lists" : "no wide scan");
 }
 
 }  // namespace
