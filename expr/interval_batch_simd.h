@@ -7,7 +7,8 @@
 // b) = (a > b) ? a : b, min(a, b) = (a < b) ? a : b, NaN and equal operands giving b, exactly
 // interval.h's max2/min2 and the MAXPD of its two-lane product kernel — and M (a mask of kWidth
 // lanes), ordered comparisons (false for NaN), and/or of masks, select, the mask as kWidth bits,
-// and prev (the double whose bits are one less); and what interval/exp_log_kernel.h's and
+// same (the lanes whose two operands have the same bits, as kWidth bits), and prev (the double
+// whose bits are one less); and what interval/exp_log_kernel.h's and
 // interval/trig_kernel.h's kernels need: pow2 (2^kd for integral kd in [−1022, 1021], exactly),
 // sign_of, flip and log_split, each the same bits as KernelSse2's on its lanes. The AVX types'
 // functions carry target attributes: they inline only into functions compiled for that target (no
@@ -43,6 +44,12 @@ struct IvSse2 : Sse2 {
     static M either(M a, M b) { return _mm_or_pd(a, b); }
     static R select(M m, R t, R f) { return _mm_or_pd(_mm_and_pd(m, t), _mm_andnot_pd(m, f)); }
     static unsigned bits(M m) { return static_cast<unsigned>(_mm_movemask_pd(m)); }
+    /// The lanes whose a and b have the same bits, as kWidth bits (both halves of each equal).
+    static unsigned same(R a, R b) {
+        const __m128i e = _mm_cmpeq_epi32(_mm_castpd_si128(a), _mm_castpd_si128(b));
+        const __m128i swapped = _mm_shuffle_epi32(e, _MM_SHUFFLE(2, 3, 0, 1));
+        return static_cast<unsigned>(_mm_movemask_pd(_mm_castsi128_pd(_mm_and_si128(e, swapped))));
+    }
 };
 
 #define CERTRAY_AVX2 [[gnu::target("avx2")]]
@@ -85,6 +92,10 @@ struct IvAvx2 : Avx2 {
     /// b where m's sign bit is set, else a (the kernels' selects by a sign).
     CERTRAY_AVX2 static R by_sign(R a, R b, R m) { return _mm256_blendv_pd(a, b, m); }
     CERTRAY_AVX2 static unsigned bits(M m) { return static_cast<unsigned>(_mm256_movemask_pd(m)); }
+    CERTRAY_AVX2 static unsigned same(R a, R b) {
+        return bits(_mm256_castsi256_pd(
+            _mm256_cmpeq_epi64(_mm256_castpd_si256(a), _mm256_castpd_si256(b))));
+    }
 };
 #undef CERTRAY_AVX2
 
@@ -132,6 +143,9 @@ struct IvAvx512 : Avx512 {
     CERTRAY_AVX512 static M either(M a, M b) { return static_cast<M>(a | b); }
     CERTRAY_AVX512 static R select(M m, R t, R f) { return _mm512_mask_blend_pd(m, f, t); }
     CERTRAY_AVX512 static unsigned bits(M m) { return m; }
+    CERTRAY_AVX512 static unsigned same(R a, R b) {
+        return _mm512_cmpeq_epi64_mask(_mm512_castpd_si512(a), _mm512_castpd_si512(b));
+    }
 };
 #undef CERTRAY_AVX512
 #endif
