@@ -373,6 +373,29 @@ BENCHMARK(BM_FoldedTogether)
     ->MeasureProcessCPUTime()
     ->UseRealTime();
 
+/// The segment forms on folded lists with the segments' plain enclosures first or not
+/// (CoherentOptions::segment_enclosures_first), for interleaved runs: the same answers, fewer
+/// lanes. Arguments: scene (kLong), side, ortho, solid, on.
+void BM_SegmentEnclosures(benchmark::State& state) {
+    long_image(state, [&](tracers::CoherentOptions& o) {
+        o.segment_enclosures_first = state.range(4) != 0;
+    });
+}
+
+// Arguments: scene (kLong), side, ortho, solid, on.
+BENCHMARK(BM_SegmentEnclosures)
+    ->ArgNames({"scene", "side", "ortho", "solid", "on"})
+    ->ArgsProduct({{0}, {256, 512}, {0, 1}, {1}, {0, 1}})
+    ->Args({1, 128, 0, 1, 0})
+    ->Args({1, 128, 0, 1, 1})
+    ->Args({2, 512, 0, 0, 0})
+    ->Args({2, 512, 0, 0, 1})
+    ->Args({3, 512, 0, 1, 0})
+    ->Args({3, 512, 0, 1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+
 /// The Lipschitz tracers' images with and without the cone march (tracers/cone.h): `certray render
 /// --method M` and `--per-ray`. Arguments: scene, side, method (0 sphere, 1 enhanced, 2 bvh),
 /// cone (1: march each tile first). The method and the march are built outside the timed loop

@@ -152,6 +152,12 @@ struct CoherentOptions {
     /// points until the bracket is a piece deep (Hit). The answers keep their meaning. Off: the
     /// pieces.
     bool monotone_segments = true;
+    /// With the segment forms on a folded list (fold_lists), the segments' plain enclosures are
+    /// walked first where they prove enough of the segments free (3 in 10 so far in the root
+    /// tile), and only the other segments walk the tangent list and the list at their middles.
+    /// The same decisions, bit for bit, in fewer lanes: Fidget's bear 0.86–0.93 of the time
+    /// (docs/benchmarks.md, session 18). Off: every segment's form at once.
+    bool segment_enclosures_first = true;
     /// The scans in lanes of a node whose list has at least this many instructions walk it folded
     /// to the node's box (expr::fold_ssa): the subexpressions whose enclosures over the box are at
     /// most a thousandth of f's wide become inputs fixed at those enclosures, when that drops an

@@ -542,13 +542,26 @@ TEST(Coherent, FoldedListsKeepTheRootsOfMathematics) {
         o.render.bounds = {{{-1, 1}, {-1, 1}, {-1, 1}}};
         o.render.camera = frame_box(o.render.bounds, 35, 1.0);
         CoherentStats stats;
-        const Agreement a = against_per_ray(bear, o, false, 1, nullptr, &stats);
+        std::vector<RayResult> coherent;
+        const Agreement a = against_per_ray(bear, o, false, 1, &coherent, &stats);
         EXPECT_EQ(a.wrong, 0u) << a.first_wrong;
         EXPECT_GT(a.rays, 0u);
         EXPECT_GT(stats.folds, 0u);
         EXPECT_GT(stats.folded_scans, 0u);  // nodes of 64 rays scanned on their folded lists
         // Its folded lists have kinks (max, min): their segment forms hold Clarke's derivative.
         EXPECT_GT(stats.segment_forms, 0u);
+        // The segments' plain enclosures first or not: the same decisions, the same answers.
+        o.segment_enclosures_first = false;
+        std::vector<RayResult> all_forms;
+        render_3d_coherent(bear, o, nullptr, &all_forms);
+        ASSERT_EQ(all_forms.size(), coherent.size());
+        for (std::size_t k = 0; k < coherent.size(); ++k) {
+            EXPECT_EQ(all_forms[k].status, coherent[k].status) << k;
+            if (coherent[k].status == Status::Hit) {
+                EXPECT_EQ(all_forms[k].t_lo, coherent[k].t_lo) << k;
+                EXPECT_EQ(all_forms[k].t_hi, coherent[k].t_hi) << k;
+            }
+        }
     }
 }
 
@@ -819,6 +832,7 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     o.tile_pieces = *rc::gen::arbitrary<bool>();
     o.segment_forms = *rc::gen::arbitrary<bool>();
     o.monotone_segments = *rc::gen::arbitrary<bool>();
+    o.segment_enclosures_first = *rc::gen::arbitrary<bool>();
     o.fold_lists = *rc::gen::element(0u, 4u, 16u, 128u);  // 4: folded wherever it drops enough
     o.folded_together_rays = *rc::gen::element(0u, 64u, 1024u);  // nodes of up to 1024 rays
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
@@ -864,6 +878,7 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     o.tile_pieces = *rc::gen::arbitrary<bool>();
     o.segment_forms = *rc::gen::arbitrary<bool>();
     o.monotone_segments = *rc::gen::arbitrary<bool>();
+    o.segment_enclosures_first = *rc::gen::arbitrary<bool>();
     o.fold_lists = *rc::gen::element(0u, 4u, 16u, 128u);
     o.folded_together_rays = *rc::gen::element(0u, 64u, 1024u);
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
