@@ -716,28 +716,27 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
     if (tl != nullptr) {
         // The same form from the tangent list: lanes 0–2 walk the box X with the seeds e_x, e_y,
         // e_z (the gradient's components, as the Dual walk has them), lane 3 with the seed dc
-        // (∇f·dc directly: tighter than Σ G_k·dc_k), lane 4 walks the centre. Interval seeds O − oc
-        // and D − dc would lose the cancellations inside each component (twice as wide on Barth's
-        // sextic), so those sums are taken over the components.
-        LaneBox boxes[5];
+        // (∇f·dc directly: tighter than Σ G_k·dc_k): one vector of four lanes. The centre is a
+        // walk of the list itself (the tangent list's value lanes are its bits), shorter than a
+        // second vector of the tangent list for one lane (Barth's sextic 3% less time, Mitchell's
+        // 4%). Interval seeds O − oc and D − dc would lose the cancellations inside each component
+        // (twice as wide on Barth's sextic), so those sums are taken over the components.
+        LaneBox boxes[4];
         for (int k = 0; k < 3; ++k) {
             for (int l = 0; l < 4; ++l) {
                 boxes[l].lo[k] = x[k].lower();
                 boxes[l].hi[k] = x[k].upper();
             }
-            boxes[4].lo[k] = c[k].lower();
-            boxes[4].hi[k] = c[k].upper();
         }
-        load_lanes(boxes, 5);
+        load_lanes(boxes, 4);
         if (lane_regs_.size() < tl->slots) lane_regs_.resize(tl->slots);
         for (int k = 0; k < 3; ++k) {
             expr::IntervalLanes& seed = lane_regs_[tl->seed[k]];
             for (int l = 0; l < 3; ++l) expr::set_lane(seed, l, UpInterval(l == k ? 1.0 : 0.0));
             expr::set_lane(seed, 3, UpInterval(dc[k]));
-            expr::set_lane(seed, 4, UpInterval(0.0));
         }
         expr::run_interval_batch(tl->list.data(), tl->list.data() + tl->list.size(),
-                                 lane_in_.data(), lane_regs_.data(), 5);
+                                 lane_in_.data(), lane_regs_.data(), 4);
         const UpInterval v = expr::lane(lane_regs_[tl->value], 0);
         if (v.is_empty() || !v.defined) return none;
         UpInterval g[4];
@@ -747,7 +746,8 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
                 return none;
             }
         }
-        UpInterval m = expr::lane(lane_regs_[tl->value], 4);
+        expr::detail::run<UpInterval>(list, c, centre_.data());
+        UpInterval m = centre_[list.back().out];
         if (m.is_empty() || !m.defined) return none;
         UpInterval across(0.0);
         for (int k = 0; k < 3; ++k) {
