@@ -532,6 +532,7 @@ class Walker {
         bool known = false;  ///< this round's midpoint is tc: `centre` is g there
     };
     std::vector<Monotone> monotone_;
+    std::vector<std::uint8_t> monotone_end_;  ///< decide_monotone()'s ends, per bracket
     /// scan_together()'s tile pieces: their boxes, enclosures and ends (piece k is
     /// [tile_t_[k], tile_t_[k + 1]]).
     std::vector<LaneBox> tile_boxes_;
@@ -1735,39 +1736,88 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
 }
 
 std::size_t Walker::decide_monotone(const Ssa& list, Level& level) {
-    // g at both ends (one batched walk). Ends of one strict sign (the solid: both ≥ 0) prove the
-    // segment free; ends of strict opposite signs (the zero set) hold a zero (exactly one unless
-    // the list is folded), bracketed
-    // by halving [lo, hi] at points (a walk per round) until it is as deep as a piece: Hit
-    // [lo, hi], with none before lo (g keeps g(lo)'s strict sign on [a, lo]). The solid's g
-    // decreasing from g(a) ≥ 0 to g(b) < 0 enters once, bracketed alike (g(lo) ≥ 0, g(hi) < 0).
-    // A midpoint whose sign is not proven ends the halving: the ray is scanned in pieces from lo.
+    // g at one end or both (one batched walk; below). Ends of one strict sign (the solid: both
+    // ≥ 0) prove the segment free; ends of strict opposite signs (the zero set) hold a zero
+    // (exactly one unless the list is folded), bracketed by halving [lo, hi] at points (a walk per
+    // round) until it is as deep as a piece: Hit [lo, hi], with none before lo (g keeps g(lo)'s
+    // strict sign on [a, lo]). The solid's g decreasing from g(a) ≥ 0 to g(b) < 0 enters once,
+    // bracketed alike (g(lo) ≥ 0, g(hi) < 0). A midpoint whose sign is not proven ends the halving:
+    // the ray is scanned in pieces from lo.
     if (monotone_.empty()) return 0;
+    // The side of a value: the solid's ≥ 0 (1) or < 0 (−1), the zero set's strict sign; 0: not
+    // proven.
+    const auto side = [&](const UpInterval& v) {
+        if (!solid_) return strict_sign(v);
+        return !v.defined ? 0 : v.lower() >= 0 ? 1 : v.upper() < 0 ? -1 : 0;
+    };
+    // g at the middle tc is known (the form's lane). Where its side is proven, one end decides:
+    // g moves away from g(tc) towards one end (the zero set: decreasing from > 0 or increasing
+    // from < 0 moves towards 0 after tc; the solid decreasing from ≥ 0 likewise), so the other
+    // half has g(tc)'s side, and the end on the zero's side either has that side too (free) or
+    // the other one (a bracket half as deep). The solid increasing: g(a) is its least value.
+    // Otherwise both ends, as the segment's own bracket.
+    enum End : std::uint8_t { kBoth, kLow, kHigh };
+    monotone_end_.resize(monotone_.size());
     points_.clear();
-    for (const Monotone& mo : monotone_) {
+    for (std::size_t k = 0; k < monotone_.size(); ++k) {
+        const Monotone& mo = monotone_[k];
         const Ray& full = px(level.scanned[mo.ray].i, level.scanned[mo.ray].j).ray;
-        points_.push_back(lane_box(full, mo.lo, mo.lo));
-        points_.push_back(lane_box(full, mo.hi, mo.hi));
+        const int sc = side(mo.centre);
+        const bool after = mo.decreasing ? sc == 1 : !solid_ && sc == -1;
+        const End e = sc == 0 ? kBoth : after ? kHigh : kLow;
+        monotone_end_[k] = e;
+        if (e != kHigh) points_.push_back(lane_box(full, mo.lo, mo.lo));
+        if (e != kLow) points_.push_back(lane_box(full, mo.hi, mo.hi));
     }
     eval_lanes(list, points_.data(), points_.size(), quarter_points_, &level);
-    std::size_t spared = 0, open = 0;
+    std::size_t spared = 0, open = 0, lane = 0;
     for (std::size_t k = 0; k < monotone_.size(); ++k) {
         Monotone& mo = monotone_[k];
         Level::Scanned& z = level.scanned[mo.ray];
-        const UpInterval& ga = quarter_points_[2 * k];
-        const UpInterval& gb = quarter_points_[2 * k + 1];
-        z.res.evals.interval += 2;
-        const int sa = strict_sign(ga), sb = strict_sign(gb);
-        const bool a_nonneg = ga.defined && ga.lower() >= 0;
-        if (solid_ ? a_nonneg && gb.defined && gb.lower() >= 0 : sa != 0 && sa == sb) {
+        const End e = static_cast<End>(monotone_end_[k]);
+        const int sc = side(mo.centre);
+        int s_end = 0;  // kLow, kHigh: the side of g at that end
+        bool free = false, bracket = false;
+        if (e == kBoth) {
+            const UpInterval& ga = quarter_points_[lane];
+            const UpInterval& gb = quarter_points_[lane + 1];
+            lane += 2;
+            z.res.evals.interval += 2;
+            const int sa = strict_sign(ga), sb = strict_sign(gb);
+            const bool a_nonneg = ga.defined && ga.lower() >= 0;
+            free = solid_ ? a_nonneg && gb.defined && gb.lower() >= 0 : sa != 0 && sa == sb;
+            // The zero set's one zero; the solid, g decreasing from g(a) ≥ 0 to g(b) < 0: it
+            // enters once.
+            bracket =
+                !free && (solid_ ? mo.decreasing && a_nonneg && sb == -1 : sa != 0 && sb == -sa);
+            mo.sign = solid_ ? 1 : sa;
+        } else {
+            s_end = side(quarter_points_[lane++]);
+            ++z.res.evals.interval;
+            if (solid_ && !mo.decreasing) {
+                free = s_end == 1;  // g(a) ≥ 0, its least value
+            } else if (s_end == sc) {
+                free = !solid_ || sc == 1;  // the solid's g < 0 at both: it entered at a
+            } else if (s_end == -sc) {
+                bracket = true;
+                // [tc, b] after the middle (g(tc) keeps its side on [a, tc]), else [a, tc].
+                if (e == kHigh) {
+                    mo.lo = mo.tc;
+                    mo.sign = sc;
+                } else {
+                    mo.hi = mo.tc;
+                    mo.sign = s_end;
+                }
+            } else if (e == kHigh) {
+                z.s.tmin = mo.tc;  // free before tc: its pieces from there
+            }
+            mo.tc = std::numeric_limits<double>::quiet_NaN();  // its value is used
+        }
+        if (free) {
             spared += prove_free(z);
             continue;
         }
-        // The zero set's one zero; the solid, g decreasing from g(a) ≥ 0 to g(b) < 0: it enters
-        // once.
-        const bool bracket = solid_ ? mo.decreasing && a_nonneg && sb == -1 : sa != 0 && sb == -sa;
         if (!bracket) continue;
-        mo.sign = solid_ ? 1 : sa;
         spared += static_cast<std::size_t>(pieces_of(z.s, piece_width(z.s)));
         monotone_[open++] = mo;
     }
