@@ -936,7 +936,8 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     }
     // More rays still, where the list folds to the node's box: the folded list's walks are
     // shorter, and one box, prune and fold serve them all.
-    if (!together && count <= options_.folded_together_rays &&
+    if (!together && count <= options_.folded_together_rays && options_.fold_lists > 0 &&
+        sub->size() >= options_.fold_lists &&
         scan_together(r, a, b, *sub, sub_tape, level, depth, hull, true)) {
         ++stats.folded_scans;
         return;
