@@ -326,6 +326,18 @@ void long_image(benchmark::State& state, Set set) {
     state.counters["wide/px"] = static_cast<double>(s.folded_scans) / px;
 }
 
+/// The other long-list scenes of an interleaved run of one option (the molecule's 128² pinhole
+/// image, the particles' zero set and test.json at 512²), each with the option off (0) and `on`,
+/// and the units of those runs.
+void other_long_scenes(benchmark::internal::Benchmark* b, std::int64_t on) {
+    for (const std::int64_t v : {std::int64_t{0}, on}) {
+        b->Args({1, 128, 0, 1, v});
+        b->Args({2, 512, 0, 0, v});
+        b->Args({3, 512, 0, 1, v});
+    }
+    b->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+}
+
 /// The lists of the scans folded to their boxes (CoherentOptions::fold_lists, 128) or not (0),
 /// for interleaved runs as BM_Option. Arguments: scene (kLong), side, ortho, solid, fold.
 void BM_Fold(benchmark::State& state) {
@@ -336,19 +348,8 @@ void BM_Fold(benchmark::State& state) {
 // Arguments: scene (kLong), side, ortho, solid, fold.
 BENCHMARK(BM_Fold)
     ->ArgNames({"scene", "side", "ortho", "solid", "fold"})
-    ->Args({0, 512, 1, 1, 0})
-    ->Args({0, 512, 1, 1, 1})
-    ->Args({0, 512, 0, 1, 0})
-    ->Args({0, 512, 0, 1, 1})
-    ->Args({1, 128, 0, 1, 0})
-    ->Args({1, 128, 0, 1, 1})
-    ->Args({2, 512, 0, 0, 0})
-    ->Args({2, 512, 0, 0, 1})
-    ->Args({3, 512, 0, 1, 0})
-    ->Args({3, 512, 0, 1, 1})
-    ->Unit(benchmark::kMillisecond)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
+    ->ArgsProduct({{0}, {512}, {1, 0}, {1}, {0, 1}})
+    ->Apply([](benchmark::internal::Benchmark* b) { other_long_scenes(b, 1); });
 
 /// Nodes of up to `rays` rays scanned together where their list folds
 /// (CoherentOptions::folded_together_rays; 0: as together_rays allows), for interleaved runs.
@@ -363,15 +364,7 @@ void BM_FoldedTogether(benchmark::State& state) {
 BENCHMARK(BM_FoldedTogether)
     ->ArgNames({"scene", "side", "ortho", "solid", "rays"})
     ->ArgsProduct({{0}, {256, 512}, {0, 1}, {1}, {0, 64, 128}})
-    ->Args({1, 128, 0, 1, 0})
-    ->Args({1, 128, 0, 1, 64})
-    ->Args({2, 512, 0, 0, 0})
-    ->Args({2, 512, 0, 0, 64})
-    ->Args({3, 512, 0, 1, 0})
-    ->Args({3, 512, 0, 1, 64})
-    ->Unit(benchmark::kMillisecond)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
+    ->Apply([](benchmark::internal::Benchmark* b) { other_long_scenes(b, 64); });
 
 /// The segment forms on folded lists with the segments' plain enclosures first or not
 /// (CoherentOptions::segment_enclosures_first), for interleaved runs: the same answers, fewer
@@ -386,15 +379,7 @@ void BM_SegmentEnclosures(benchmark::State& state) {
 BENCHMARK(BM_SegmentEnclosures)
     ->ArgNames({"scene", "side", "ortho", "solid", "on"})
     ->ArgsProduct({{0}, {256, 512}, {0, 1}, {1}, {0, 1}})
-    ->Args({1, 128, 0, 1, 0})
-    ->Args({1, 128, 0, 1, 1})
-    ->Args({2, 512, 0, 0, 0})
-    ->Args({2, 512, 0, 0, 1})
-    ->Args({3, 512, 0, 1, 0})
-    ->Args({3, 512, 0, 1, 1})
-    ->Unit(benchmark::kMillisecond)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
+    ->Apply([](benchmark::internal::Benchmark* b) { other_long_scenes(b, 1); });
 
 /// The Lipschitz tracers' images with and without the cone march (tracers/cone.h): `certray render
 /// --method M` and `--per-ray`. Arguments: scene, side, method (0 sphere, 1 enhanced, 2 bvh),

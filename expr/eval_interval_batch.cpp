@@ -361,18 +361,10 @@ template <class V>
                                                     bool b_point) {
     using R = typename V::R;
     constexpr unsigned kAll = (1u << V::kWidth) - 1;
-    R p1, p2, n1, n2;
-    if (b_point) {
-        p1 = V::mul(alo, blo);
-        p2 = V::mul(ahi, blo);
-        n1 = V::mul(V::neg(alo), blo);
-        n2 = V::mul(V::neg(ahi), blo);
-    } else {
-        p1 = V::mul(alo, blo);
-        p2 = V::mul(alo, bhi);
-        n1 = V::mul(V::neg(alo), blo);
-        n2 = V::mul(V::neg(alo), bhi);
-    }
+    // The kernel's al·blo, and its ah·blo (b a point) or al·bhi (a a point), as it takes them.
+    const R x = b_point ? ahi : alo, y = b_point ? blo : bhi;
+    const R p1 = V::mul(alo, blo), p2 = V::mul(x, y);
+    const R n1 = V::mul(V::neg(alo), blo), n2 = V::mul(V::neg(x), y);
     const R hi = V::max(p1, p2);
     const R lo = V::neg(V::max(n1, n2));
     return {lo, hi, V::bits(V::ord(p1, p2)), kAll};

@@ -285,6 +285,10 @@ class Walker {
     /// times f's enclosure become inputs where the folded list's value at the box's centre stays
     /// within kFoldCentre of it (three tries, each a 32nd of the width before); empty otherwise.
     void fold(const Ssa& sub, const std::array<UpInterval, 3>& box, Level& level);
+    /// Whether fold() may fold `list` (CoherentOptions::fold_lists).
+    bool may_fold(const Ssa& list) const {
+        return options_.fold_lists != 0 && list.size() >= options_.fold_lists;
+    }
     /// tangent_kind() and tangent() of what the scan of `list` at this level walks in lanes: the
     /// folded list's where the level has one.
     expr::TangentKind lane_tangent_kind(const Ssa& list, unsigned depth, Level& level);
@@ -526,13 +530,12 @@ class Walker {
         double lo, hi;
         int sign;
         bool decreasing;  ///< g′ < 0 on the segment (else > 0)
-        /// g at the segment's middle tc, from its form's lanes (the first halving's point)
+        /// g at the segment's middle tc, from its form's lanes
         double tc;
         UpInterval centre;
-        bool known = false;  ///< this round's midpoint is tc: `centre` is g there
+        bool high = false;  ///< decide_monotone(): the zero, if any, lies after tc (b decides)
     };
     std::vector<Monotone> monotone_;
-    std::vector<std::uint8_t> monotone_end_;  ///< decide_monotone()'s ends, per bracket
     /// scan_together()'s tile pieces: their boxes, enclosures and ends (piece k is
     /// [tile_t_[k], tile_t_[k + 1]]).
     std::vector<LaneBox> tile_boxes_;
@@ -936,8 +939,7 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     }
     // More rays still, where the list folds to the node's box: the folded list's walks are
     // shorter, and one box, prune and fold serve them all.
-    if (!together && count <= options_.folded_together_rays && options_.fold_lists > 0 &&
-        sub->size() >= options_.fold_lists &&
+    if (!together && count <= options_.folded_together_rays && may_fold(*sub) &&
         scan_together(r, a, b, *sub, sub_tape, level, depth, hull, true)) {
         ++stats.folded_scans;
         return;
@@ -1097,9 +1099,7 @@ void Walker::fold(const Ssa& sub, const std::array<UpInterval, 3>& box, Level& l
     folded.list.clear();
     folded.fixed.clear();
     level.folded_tangent.forget();
-    if (options_.fold_lists == 0 || sub.size() < options_.fold_lists || !fold_trial_.attempt()) {
-        return;
-    }
+    if (!may_fold(sub) || !fold_trial_.attempt()) return;
     // The enclosures of sub's slots over the box: level.values (the node's list's), through
     // prune_ssa's renaming where sub is that list pruned (a slot that took over a dropped
     // min/max's has the same values on the box; prune_ws_.bind has a slot per slot of the
@@ -1737,13 +1737,13 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
 }
 
 std::size_t Walker::decide_monotone(const Ssa& list, Level& level) {
-    // g at one end or both (one batched walk; below). Ends of one strict sign (the solid: both
-    // ≥ 0) prove the segment free; ends of strict opposite signs (the zero set) hold a zero
-    // (exactly one unless the list is folded), bracketed by halving [lo, hi] at points (a walk per
-    // round) until it is as deep as a piece: Hit [lo, hi], with none before lo (g keeps g(lo)'s
-    // strict sign on [a, lo]). The solid's g decreasing from g(a) ≥ 0 to g(b) < 0 enters once,
-    // bracketed alike (g(lo) ≥ 0, g(hi) < 0). A midpoint whose sign is not proven ends the halving:
-    // the ray is scanned in pieces from lo.
+    // g at the middle tc and at one end (one batched walk; below). Points of one strict sign (the
+    // solid: both ≥ 0) prove the part between them free; points of strict opposite signs (the
+    // zero set) hold a zero (exactly one unless the list is folded), bracketed by halving [lo, hi]
+    // at points (a walk per round) until it is as deep as a piece: Hit [lo, hi], with none before
+    // lo (g keeps g(lo)'s strict sign on [a, lo]). The solid's g decreasing from g(lo) ≥ 0 to
+    // g(hi) < 0 enters once, bracketed alike. A midpoint whose sign is not proven ends the
+    // halving: the ray is scanned in pieces from lo.
     if (monotone_.empty()) return 0;
     // The side of a value: the solid's ≥ 0 (1) or < 0 (−1), the zero set's strict sign; 0: not
     // proven.
@@ -1756,63 +1756,46 @@ std::size_t Walker::decide_monotone(const Ssa& list, Level& level) {
     // from < 0 moves towards 0 after tc; the solid decreasing from ≥ 0 likewise), so the other
     // half has g(tc)'s side, and the end on the zero's side either has that side too (free) or
     // the other one (a bracket half as deep). The solid increasing: g(a) is its least value.
-    // Otherwise both ends, as the segment's own bracket.
-    enum End : std::uint8_t { kBoth, kLow, kHigh };
-    monotone_end_.resize(monotone_.size());
+    // Where g(tc)'s side is not proven (none of the gallery's segments), the zero lies near tc:
+    // the ray is scanned in pieces.
+    std::size_t open = 0;
     points_.clear();
-    for (std::size_t k = 0; k < monotone_.size(); ++k) {
-        const Monotone& mo = monotone_[k];
-        const Ray& full = px(level.scanned[mo.ray].i, level.scanned[mo.ray].j).ray;
+    for (Monotone& mo : monotone_) {
         const int sc = side(mo.centre);
-        const bool after = mo.decreasing ? sc == 1 : !solid_ && sc == -1;
-        const End e = sc == 0 ? kBoth : after ? kHigh : kLow;
-        monotone_end_[k] = e;
-        if (e != kHigh) points_.push_back(lane_box(full, mo.lo, mo.lo));
-        if (e != kLow) points_.push_back(lane_box(full, mo.hi, mo.hi));
+        if (sc == 0) continue;
+        mo.sign = sc;
+        mo.high = mo.decreasing ? sc == 1 : !solid_ && sc == -1;
+        const Ray& full = px(level.scanned[mo.ray].i, level.scanned[mo.ray].j).ray;
+        const double end = mo.high ? mo.hi : mo.lo;
+        points_.push_back(lane_box(full, end, end));
+        monotone_[open++] = mo;
     }
+    monotone_.resize(open);
+    if (open == 0) return 0;
     eval_lanes(list, points_.data(), points_.size(), quarter_points_, &level);
-    std::size_t spared = 0, open = 0, lane = 0;
+    std::size_t spared = 0;
+    open = 0;
     for (std::size_t k = 0; k < monotone_.size(); ++k) {
         Monotone& mo = monotone_[k];
         Level::Scanned& z = level.scanned[mo.ray];
-        const End e = static_cast<End>(monotone_end_[k]);
-        const int sc = side(mo.centre);
-        int s_end = 0;  // kLow, kHigh: the side of g at that end
+        const int sc = mo.sign, s_end = side(quarter_points_[k]);
+        ++z.res.evals.interval;
         bool free = false, bracket = false;
-        if (e == kBoth) {
-            const UpInterval& ga = quarter_points_[lane];
-            const UpInterval& gb = quarter_points_[lane + 1];
-            lane += 2;
-            z.res.evals.interval += 2;
-            const int sa = strict_sign(ga), sb = strict_sign(gb);
-            const bool a_nonneg = ga.defined && ga.lower() >= 0;
-            free = solid_ ? a_nonneg && gb.defined && gb.lower() >= 0 : sa != 0 && sa == sb;
-            // The zero set's one zero; the solid, g decreasing from g(a) ≥ 0 to g(b) < 0: it
-            // enters once.
-            bracket =
-                !free && (solid_ ? mo.decreasing && a_nonneg && sb == -1 : sa != 0 && sb == -sa);
-            mo.sign = solid_ ? 1 : sa;
-        } else {
-            s_end = side(quarter_points_[lane++]);
-            ++z.res.evals.interval;
-            if (solid_ && !mo.decreasing) {
-                free = s_end == 1;  // g(a) ≥ 0, its least value
-            } else if (s_end == sc) {
-                free = !solid_ || sc == 1;  // the solid's g < 0 at both: it entered at a
-            } else if (s_end == -sc) {
-                bracket = true;
-                // [tc, b] after the middle (g(tc) keeps its side on [a, tc]), else [a, tc].
-                if (e == kHigh) {
-                    mo.lo = mo.tc;
-                    mo.sign = sc;
-                } else {
-                    mo.hi = mo.tc;
-                    mo.sign = s_end;
-                }
-            } else if (e == kHigh) {
-                z.s.tmin = mo.tc;  // free before tc: its pieces from there
+        if (solid_ && !mo.decreasing) {
+            free = s_end == 1;  // g(a) ≥ 0, its least value
+        } else if (s_end == sc) {
+            free = !solid_ || sc == 1;  // the solid's g < 0 at both: it entered at a
+        } else if (s_end == -sc) {
+            bracket = true;
+            // [tc, b] after the middle (g(tc) keeps its side on [a, tc]), else [a, tc].
+            if (mo.high) {
+                mo.lo = mo.tc;
+            } else {
+                mo.hi = mo.tc;
+                mo.sign = s_end;
             }
-            mo.tc = std::numeric_limits<double>::quiet_NaN();  // its value is used
+        } else if (mo.high) {
+            z.s.tmin = mo.tc;  // free before tc: its pieces from there
         }
         if (free) {
             spared += prove_free(z);
@@ -1826,40 +1809,29 @@ std::size_t Walker::decide_monotone(const Ssa& list, Level& level) {
     stats.monotone_segments += open;
     while (!monotone_.empty()) {
         // Halving: the brackets deeper than a piece get their midpoints.
-        // A midpoint at the segment's middle has its value from the form's lanes already (the
-        // same box, so the same bits).
         points_.clear();
         open = 0;
-        for (Monotone& mo : monotone_) {
+        for (const Monotone& mo : monotone_) {
             Level::Scanned& z = level.scanned[mo.ray];
             const double mid = 0.5 * mo.lo + 0.5 * mo.hi;
             if (mo.hi - mo.lo <= piece_width(z.s) || !(mo.lo < mid && mid < mo.hi)) {
                 hit_of(z.res, mo.lo, mo.hi);  // one zero in [lo, hi], none before
                 continue;
             }
-            mo.known = mid == mo.tc;
-            if (!mo.known) points_.push_back(lane_box(px(z.i, z.j).ray, mid, mid));
+            points_.push_back(lane_box(px(z.i, z.j).ray, mid, mid));
             monotone_[open++] = mo;
         }
         monotone_.resize(open);
         if (open == 0) break;
-        if (!points_.empty()) {
-            eval_lanes(list, points_.data(), points_.size(), quarter_points_, &level);
-        }
+        eval_lanes(list, points_.data(), points_.size(), quarter_points_, &level);
         open = 0;
-        std::size_t lane = 0;
         for (std::size_t k = 0; k < monotone_.size(); ++k) {
             Monotone& mo = monotone_[k];
             Level::Scanned& z = level.scanned[mo.ray];
             const double mid = 0.5 * mo.lo + 0.5 * mo.hi;
-            z.res.evals.interval += !mo.known;
-            const UpInterval gm = mo.known ? mo.centre : quarter_points_[lane++];
+            ++z.res.evals.interval;
             // The solid keeps g(lo) ≥ 0 (so g ≥ 0 on [a, lo]) and g(hi) < 0.
-            const int sm = !solid_           ? strict_sign(gm)
-                           : !gm.defined     ? 0
-                           : gm.lower() >= 0 ? 1
-                           : gm.upper() < 0  ? -1
-                                             : 0;
+            const int sm = side(quarter_points_[k]);
             if (sm == mo.sign) {
                 mo.lo = mid;
             } else if (sm == -mo.sign) {

@@ -15,6 +15,7 @@
 #include "certray/certray.h"
 #include "expr/builder.h"
 #include "tests/support/fp_env.h"
+#include "tests/support/ray_checks.h"
 #include "tracers/coherent.h"
 
 namespace certray {
@@ -131,14 +132,7 @@ TEST(Api, ThreadsGiveTheSameAnswersAndReportProgress) {
     };
     const std::vector<RayResult> a = query(scene, rays, one);
     const std::vector<RayResult> b = query(scene, rays, two);
-    ASSERT_EQ(a.size(), b.size());
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        EXPECT_EQ(a[i].status, b[i].status) << i;
-        if (a[i].status == Status::Hit) {
-            EXPECT_EQ(a[i].t_lo, b[i].t_lo) << i;
-            EXPECT_EQ(a[i].t_hi, b[i].t_hi) << i;
-        }
-    }
+    testing::expect_same_answers(b, a);
     EXPECT_GE(calls, 1u);
     EXPECT_EQ(last_done, rays.size());
 }
@@ -267,13 +261,7 @@ TEST(Api, HostsWithFlushToZeroOrAnotherRoundingGetTheSameAnswers) {
         const testing::FpWords words = testing::read_fp_words();
         const std::vector<RayResult> r = query(scene, rays);
         EXPECT_TRUE(testing::same_control(testing::read_fp_words(), words)) << state;
-        for (std::size_t i = 0; i < rays.size(); ++i) {
-            EXPECT_EQ(r[i].status, reference[i].status) << state << " ray " << i;
-            if (r[i].status == Status::Hit) {
-                EXPECT_EQ(r[i].t_lo, reference[i].t_lo) << state;
-                EXPECT_EQ(r[i].t_hi, reference[i].t_hi) << state;
-            }
-        }
+        testing::expect_same_answers(r, reference, state);
     }
 }
 

@@ -28,6 +28,7 @@
 #include "tests/support/generators.h"
 #include "tests/support/independent_oracle.h"
 #include "tests/support/random_dag.h"
+#include "tests/support/ray_checks.h"
 #include "tests/support/stress_cases.h"
 #include "tracers/octree.h"
 
@@ -109,13 +110,7 @@ TEST(Approx, ThreadsBuildTheSameModels) {
             for (std::size_t i = k; i < rays.size(); i += 4) got[i] = shared.certified(rays[i], {});
         });
     for (std::thread& t : threads) t.join();
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-        EXPECT_EQ(got[i].status, expect[i].status) << i;
-        if (expect[i].status == Status::Hit) {
-            EXPECT_EQ(got[i].t_lo, expect[i].t_lo) << i;
-            EXPECT_EQ(got[i].t_hi, expect[i].t_hi) << i;
-        }
-    }
+    testing::expect_same_answers(got, expect);
     EXPECT_EQ(shared.stats().models_built, serial.stats().models_built);
 }
 

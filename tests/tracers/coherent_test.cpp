@@ -30,6 +30,7 @@
 #include "tests/support/fp_env.h"
 #include "tests/support/generators.h"
 #include "tests/support/random_dag.h"
+#include "tests/support/ray_checks.h"
 #include "tracers/segment_box.h"
 
 namespace certray::tracers {
@@ -554,14 +555,7 @@ TEST(Coherent, FoldedListsKeepTheRootsOfMathematics) {
         o.segment_enclosures_first = false;
         std::vector<RayResult> all_forms;
         render_3d_coherent(bear, o, nullptr, &all_forms);
-        ASSERT_EQ(all_forms.size(), coherent.size());
-        for (std::size_t k = 0; k < coherent.size(); ++k) {
-            EXPECT_EQ(all_forms[k].status, coherent[k].status) << k;
-            if (coherent[k].status == Status::Hit) {
-                EXPECT_EQ(all_forms[k].t_lo, coherent[k].t_lo) << k;
-                EXPECT_EQ(all_forms[k].t_hi, coherent[k].t_hi) << k;
-            }
-        }
+        testing::expect_same_answers(all_forms, coherent);
     }
 }
 
