@@ -259,8 +259,8 @@ const Scene kSmooth[] = {{CERTRAY_SCENES_DIR "/barth_sextic.vm", -2, 2},
 /// The coherent image of a smooth scene (its zero set, pinhole, framed as `certray render` frames
 /// it, the image options, 2 threads) with and without one option, to be run with
 /// --benchmark_enable_random_interleaving and repetitions: the two of each scene then alternate in
-/// one process. Arguments: scene (kSmooth), side, option (0 segment_forms, 1 monotone_segments),
-/// on.
+/// one process. Arguments: scene (kSmooth), side, option (0 segment_forms, 1 monotone_segments,
+/// 2 float_lanes), on.
 void BM_Option(benchmark::State& state) {
     static const std::vector<expr::Tape> tapes = tapes_of(kSmooth);
     const expr::Tape& tape = tapes[static_cast<std::size_t>(state.range(0))];
@@ -274,6 +274,9 @@ void BM_Option(benchmark::State& state) {
         case 1:
             o.monotone_segments = on;
             break;
+        case 2:
+            o.float_lanes = on;
+            break;
         default:
             state.SkipWithError("unknown option");
             return;
@@ -286,10 +289,11 @@ void BM_Option(benchmark::State& state) {
     report(state, r, static_cast<double>(side) * side);
 }
 
-// Arguments: scene (kSmooth), side, option (0 segment_forms, 1 monotone_segments), on.
+// Arguments: scene (kSmooth), side, option (0 segment_forms, 1 monotone_segments, 2
+// float_lanes), on.
 BENCHMARK(BM_Option)
     ->ArgNames({"scene", "side", "option", "on"})
-    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}, {512}, {0, 1}, {0, 1}})
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}, {512}, {0, 1, 2}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime();
@@ -377,6 +381,18 @@ void BM_SegmentEnclosures(benchmark::State& state) {
 
 // Arguments: scene (kLong), side, ortho, solid, on.
 BENCHMARK(BM_SegmentEnclosures)
+    ->ArgNames({"scene", "side", "ortho", "solid", "on"})
+    ->ArgsProduct({{0}, {256, 512}, {0, 1}, {1}, {0, 1}})
+    ->Apply([](benchmark::internal::Benchmark* b) { other_long_scenes(b, 1); });
+
+/// The walks in lanes in binary32 bounds or in double (CoherentOptions::float_lanes), for
+/// interleaved runs. Arguments: scene (kLong), side, ortho, solid, on.
+void BM_FloatLanes(benchmark::State& state) {
+    long_image(state, [&](tracers::CoherentOptions& o) { o.float_lanes = state.range(4) != 0; });
+}
+
+// Arguments: scene (kLong), side, ortho, solid, on.
+BENCHMARK(BM_FloatLanes)
     ->ArgNames({"scene", "side", "ortho", "solid", "on"})
     ->ArgsProduct({{0}, {256, 512}, {0, 1}, {1}, {0, 1}})
     ->Apply([](benchmark::internal::Benchmark* b) { other_long_scenes(b, 1); });

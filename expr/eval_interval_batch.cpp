@@ -24,6 +24,10 @@
 // One template walk over a vector type V (expr/interval_batch_simd.h), compiled for SSE2, AVX2
 // and AVX-512 (target attributes, flattened entry points as in expr/eval_batch.cpp) and chosen by
 // batch_isa(). Decorations are bit masks, so a lane's decoration costs a bit of a mask register.
+// The binary32 walk (IntervalLanesF) is the same template over binary32 vectors (IvSse2F, IvAvx2F;
+// AVX-512 machines take AVX2's): the kernels of + − × ÷ square √ neg abs min max 1/x, their
+// Boost lanes by the scalar operation rounded outward, every other op through the double walk
+// (via_double), so its contract is inclusion, not equality.
 // Reference: docs/theory/interval_batch.md; timings in docs/benchmarks.md, "Interval batch walk".
 #include "expr/eval_interval_batch.h"
 
@@ -33,6 +37,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include "expr/eval_batch.h"
 #include "expr/interval_batch_simd.h"
@@ -46,6 +51,7 @@ namespace detail {
 namespace {
 
 using Lanes = IntervalLanes;
+using LanesF = IntervalLanesF;
 using certray::detail::IntervalArith;
 using certray::detail::opaque;
 
@@ -147,6 +153,21 @@ using certray::detail::opaque;
         const UpInterval v = scalar_op(in, lane(a, k + j), lane(b, k + j));
         lo[j] = v.lower();
         hi[j] = v.upper();
+        def |= static_cast<unsigned>(v.defined) << j;
+    }
+    return def;
+}
+
+/// scalar_chunk on binary32 registers: the scalar operation on the lanes widened (exactly), its
+/// bounds rounded outward to binary32.
+[[gnu::noinline]] unsigned scalar_chunk(const Instr& in, const LanesF& a, const LanesF& b, int k,
+                                        unsigned slow, float* lo, float* hi) {
+    unsigned def = 0;
+    for (; slow != 0; slow &= slow - 1) {
+        const int j = __builtin_ctz(slow);
+        const UpInterval v = scalar_op(in, lane(a, k + j), lane(b, k + j));
+        lo[j] = lower_f32(v.lower());
+        hi[j] = upper_f32(v.upper());
         def |= static_cast<unsigned>(v.defined) << j;
     }
     return def;
@@ -370,15 +391,20 @@ template <class V>
     return {lo, hi, V::bits(V::ord(p1, p2)), kAll};
 }
 
+/// The bound type of registers L: double (IntervalLanes) or float (IntervalLanesF).
+template <class L>
+using Bound = std::remove_cvref_t<decltype(L::lo[0])>;
+
 /// Instruction `in` (op OP) on lanes 0 … n − 1 (rounded up to kWidth), kWidth lanes at a time;
 /// each block of lanes is read before it is written, so the output may be an operand's register.
-template <class V, Op OP>
-[[gnu::always_inline]] inline void vector_step(const Instr& in, Lanes* r, int n) {
+/// L: the registers, IntervalLanes (V of doubles) or IntervalLanesF (V of floats).
+template <class V, Op OP, class L>
+[[gnu::always_inline]] inline void vector_step(const Instr& in, L* r, int n) {
     constexpr int W = V::kWidth;
     constexpr unsigned kAll = (1u << W) - 1;
-    const Lanes& a = r[in.a];
-    const Lanes& b = arity(OP) == 2 ? r[in.b] : a;
-    Lanes& o = r[in.out];
+    const L& a = r[in.a];
+    const L& b = arity(OP) == 2 ? r[in.b] : a;
+    L& o = r[in.out];
     for (int w = 0; w * 64 < n; ++w) {
         const int begin = w * 64, end = std::min(n, begin + 64);
         const std::uint64_t operands = a.defined[w] & b.defined[w];  // read before o is written
@@ -400,7 +426,7 @@ template <class V, Op OP>
             }
             const unsigned live = end - k >= W ? kAll : (1u << (end - k)) - 1;
             if (const unsigned slow = ~c.ok & live; slow != 0) [[unlikely]] {
-                alignas(64) double lo[W], hi[W];
+                alignas(64) Bound<L> lo[W], hi[W];
                 V::store(lo, c.lo);
                 V::store(hi, c.hi);
                 scalar_def |= std::uint64_t{scalar_chunk(in, a, b, k, slow, lo, hi)} << (k - begin);
@@ -415,11 +441,18 @@ template <class V, Op OP>
     }
 }
 
-/// Const: UpInterval(imm) in every lane.
-template <class V>
-[[gnu::always_inline]] inline void const_step(const Instr& in, Lanes& o, int n) {
+/// Const: UpInterval(imm) in every lane (rounded outward in binary32 registers).
+template <class V, class L>
+[[gnu::always_inline]] inline void const_step(const Instr& in, L& o, int n) {
     const UpInterval c(in.imm);
-    const typename V::R lo = V::set1(c.lower()), hi = V::set1(c.upper());
+    typename V::R lo, hi;
+    if constexpr (std::is_same_v<L, LanesF>) {
+        lo = V::set1(lower_f32(c.lower()));
+        hi = V::set1(upper_f32(c.upper()));
+    } else {
+        lo = V::set1(c.lower());
+        hi = V::set1(c.upper());
+    }
     for (int k = 0; k < n; k += V::kWidth) {
         V::store(o.lo + k, lo);
         V::store(o.hi + k, hi);
@@ -428,8 +461,8 @@ template <class V>
 }
 
 /// VarX, VarY, VarZ: the input's lanes.
-template <class V>
-[[gnu::always_inline]] inline void copy_step(const Lanes& x, Lanes& o, int n) {
+template <class V, class L>
+[[gnu::always_inline]] inline void copy_step(const L& x, L& o, int n) {
     for (int k = 0; k < n; k += V::kWidth) {
         V::store(o.lo + k, V::load(x.lo + k));
         V::store(o.hi + k, V::load(x.hi + k));
@@ -545,20 +578,60 @@ template <class V>
                         [sine](const UpInterval& x) { return sine ? sin(x) : cos(x); });
 }
 
-/// The walk over vectors of V.
-template <class V>
-inline void walk(const Instr* in, const Instr* const end, const Lanes* p, Lanes* r, int n) {
+using WalkFn = void (*)(const Instr*, const Instr*, const Lanes*, Lanes*, int);
+WalkFn walk_for(BatchIsa isa) noexcept;
+
+/// Instruction `in` on lanes 0 … n − 1 of binary32 registers by the double walk `walk`: the
+/// operands widened into double registers (exactly), the instruction run there, its bounds rounded
+/// outward to binary32 (upward mode held: RU(hi) and −RU(−lo)). The output may be an operand's
+/// register.
+[[gnu::noinline]] void via_double(const Instr& in, LanesF* r, int n, WalkFn walk) {
+    static thread_local Lanes d[3];
+    const int k = arity(in.op);
+    const auto widen = [n](const LanesF& x, Lanes& y) {
+        for (int i = 0; i < n; ++i) {
+            y.lo[i] = x.lo[i];
+            y.hi[i] = x.hi[i];
+        }
+        y.defined[0] = x.defined[0];
+    };
+    Instr one = in;
+    if (k >= 1) {
+        widen(r[in.a], d[0]);
+        one.a = 0;
+    }
+    if (k == 2) {
+        widen(r[in.b], d[1]);
+        one.b = 1;
+    }
+    one.out = 2;
+    walk(&one, &one + 1, d, d, n);
+    LanesF& o = r[in.out];
+    for (int i = 0; i < n; ++i) {
+        o.lo[i] = -static_cast<float>(opaque(-d[2].lo[i]));
+        o.hi[i] = static_cast<float>(opaque(d[2].hi[i]));
+    }
+    o.defined[0] = d[2].defined[0];
+}
+
+/// The walk over vectors of V on registers L: IntervalLanes (V of doubles) or IntervalLanesF (V
+/// of floats; the ops without a vector kernel through via_double on the double walk `dwalk`).
+template <class V, class L = Lanes>
+inline void walk(const Instr* in, const Instr* const end, const L* p, L* r, int n,
+                 WalkFn dwalk = nullptr) {
     static_assert(kIntervalLanes % V::kWidth == 0);
+    static_assert(kIntervalLanes <= 64, "one word of decorations per register");
+    constexpr bool kF32 = std::is_same_v<L, LanesF>;
     for (; in != end; ++in) {
         switch (in->op) {
             case Op::Const:
-                const_step<V>(*in, r[in->out], n);
+                const_step<V, L>(*in, r[in->out], n);
                 break;
             case Op::VarX:
             case Op::VarY:
             case Op::VarZ:
-                copy_step<V>(p[static_cast<int>(in->op) - static_cast<int>(Op::VarX)], r[in->out],
-                             n);
+                copy_step<V, L>(p[static_cast<int>(in->op) - static_cast<int>(Op::VarX)],
+                                r[in->out], n);
                 break;
 #define CERTRAY_VECTOR_CASE(OP)            \
     case Op::OP:                           \
@@ -577,16 +650,18 @@ inline void walk(const Instr* in, const Instr* const end, const Lanes* p, Lanes*
                 CERTRAY_VECTOR_CASE(Max)
 #undef CERTRAY_VECTOR_CASE
             case Op::Exp:
-                exp_lanes<V>(r[in->a], r[in->out], n);
-                break;
             case Op::Log:
-                log_lanes<V>(r[in->a], r[in->out], n);
-                break;
             case Op::Sin:
-                trig_lanes<V>(true, r[in->a], r[in->out], n);
-                break;
             case Op::Cos:
-                trig_lanes<V>(false, r[in->a], r[in->out], n);
+                if constexpr (kF32) {
+                    via_double(*in, r, n, dwalk);
+                } else if (in->op == Op::Exp) {
+                    exp_lanes<V>(r[in->a], r[in->out], n);
+                } else if (in->op == Op::Log) {
+                    log_lanes<V>(r[in->a], r[in->out], n);
+                } else {
+                    trig_lanes<V>(in->op == Op::Sin, r[in->a], r[in->out], n);
+                }
                 break;
             case Op::Pow:
             case Op::Floor:
@@ -602,13 +677,15 @@ inline void walk(const Instr* in, const Instr* const end, const Lanes* p, Lanes*
             case Op::Mod:
             case Op::And:
             case Op::Or:
-                scalar_lanes(*in, r, n);
+                if constexpr (kF32) {
+                    via_double(*in, r, n, dwalk);
+                } else {
+                    scalar_lanes(*in, r, n);
+                }
                 break;
         }
     }
 }
-
-using WalkFn = void (*)(const Instr*, const Instr*, const Lanes*, Lanes*, int);
 
 [[gnu::flatten]] void walk_baseline(const Instr* in, const Instr* end, const Lanes* p, Lanes* r,
                                     int n) {
@@ -635,6 +712,23 @@ WalkFn walk_for(BatchIsa isa) noexcept {
     return walk_baseline;
 }
 
+// The binary32 walks: SSE2's four lanes, AVX2's eight (AVX-512 machines take AVX2's); the ops
+// without a vector kernel through the double walk of the same instruction set.
+using WalkFnF = void (*)(const Instr*, const Instr*, const LanesF*, LanesF*, int);
+
+[[gnu::flatten]] void walk_f32_baseline(const Instr* in, const Instr* end, const LanesF* p,
+                                        LanesF* r, int n) {
+    walk<IvSse2F, LanesF>(in, end, p, r, n, walk_baseline);
+}
+[[gnu::target("avx2"), gnu::flatten]] void walk_f32_avx2(const Instr* in, const Instr* end,
+                                                         const LanesF* p, LanesF* r, int n) {
+    walk<IvAvx2F, LanesF>(in, end, p, r, n, walk_avx2);
+}
+
+WalkFnF walk_f32_for(BatchIsa isa) noexcept {
+    return isa == BatchIsa::Baseline ? walk_f32_baseline : walk_f32_avx2;
+}
+
 #else
 
 /// Any other CPU: the inputs copied, exp and log batched, every other op lane by lane.
@@ -650,6 +744,20 @@ void walk_portable(const Instr* in, const Instr* const end, const Lanes* p, Lane
     }
 }
 
+/// Any other CPU, binary32 registers: every op lane by lane in double, rounded outward.
+void walk_portable_f32(const Instr* in, const Instr* const end, const LanesF* p, LanesF* r, int n) {
+    for (; in != end; ++in) {
+        if (in->op == Op::VarX || in->op == Op::VarY || in->op == Op::VarZ) {
+            r[in->out] = p[static_cast<int>(in->op) - static_cast<int>(Op::VarX)];
+            continue;
+        }
+        const LanesF& a = r[in->a];
+        const LanesF& b = arity(in->op) == 2 ? r[in->b] : a;
+        LanesF& o = r[in->out];
+        for (int i = 0; i < n; ++i) set_lane(o, i, scalar_op(*in, lane(a, i), lane(b, i)));
+    }
+}
+
 #endif
 
 }  // namespace
@@ -662,6 +770,16 @@ void run_interval_batch(const Instr* begin, const Instr* end, const IntervalLane
     detail::walk_for(batch_isa())(begin, end, p, r, n);
 #else
     detail::walk_portable(begin, end, p, r, n);
+#endif
+}
+
+void run_interval_batch(const Instr* begin, const Instr* end, const IntervalLanesF* p,
+                        IntervalLanesF* r, int n) {
+    assert(n >= 1 && n <= kIntervalLanes);
+#if CERTRAY_BATCH_X86
+    detail::walk_f32_for(batch_isa())(begin, end, p, r, n);
+#else
+    detail::walk_portable_f32(begin, end, p, r, n);
 #endif
 }
 

@@ -99,6 +99,74 @@ struct IvAvx2 : Avx2 {
 };
 #undef CERTRAY_AVX2
 
+// Binary32 lanes for the float walk: the operations the kernels of + − × ÷ square √ neg abs min
+// max take, as IvSse2's and IvAvx2's on four and eight binary32 lanes (set1 of a double that is a
+// binary32 number: the constants 0, −0, 1 and NaN of the kernels).
+struct IvSse2F {
+    using R = __m128;
+    using M = __m128;
+    static constexpr int kWidth = 4;
+    static R load(const float* p) { return _mm_loadu_ps(p); }
+    static void store(float* p, R x) { _mm_storeu_ps(p, x); }
+    static R set1(double c) { return _mm_set1_ps(static_cast<float>(c)); }
+    static R add(R a, R b) { return _mm_add_ps(a, b); }
+    static R sub(R a, R b) { return _mm_sub_ps(a, b); }
+    static R mul(R a, R b) { return _mm_mul_ps(a, b); }
+    static R div(R a, R b) { return _mm_div_ps(a, b); }
+    static R sqrt(R a) { return _mm_sqrt_ps(a); }
+    static R neg(R a) { return _mm_xor_ps(a, _mm_set1_ps(-0.0f)); }
+    static R max(R a, R b) { return _mm_max_ps(a, b); }
+    static R min(R a, R b) { return _mm_min_ps(a, b); }
+    static R prev(R a) {
+        return _mm_castsi128_ps(_mm_sub_epi32(_mm_castps_si128(a), _mm_set1_epi32(1)));
+    }
+    static M le(R a, R b) { return _mm_cmple_ps(a, b); }
+    static M lt(R a, R b) { return _mm_cmplt_ps(a, b); }
+    static M eq(R a, R b) { return _mm_cmpeq_ps(a, b); }
+    static M ord(R a, R b) { return _mm_cmpord_ps(a, b); }
+    static M both(M a, M b) { return _mm_and_ps(a, b); }
+    static M either(M a, M b) { return _mm_or_ps(a, b); }
+    static R select(M m, R t, R f) { return _mm_or_ps(_mm_and_ps(m, t), _mm_andnot_ps(m, f)); }
+    static unsigned bits(M m) { return static_cast<unsigned>(_mm_movemask_ps(m)); }
+    static unsigned same(R a, R b) {
+        return bits(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_castps_si128(a), _mm_castps_si128(b))));
+    }
+};
+
+#define CERTRAY_AVX2 [[gnu::target("avx2")]]
+struct IvAvx2F {
+    using R = __m256;
+    using M = __m256;
+    static constexpr int kWidth = 8;
+    CERTRAY_AVX2 static R load(const float* p) { return _mm256_loadu_ps(p); }
+    CERTRAY_AVX2 static void store(float* p, R x) { _mm256_storeu_ps(p, x); }
+    CERTRAY_AVX2 static R set1(double c) { return _mm256_set1_ps(static_cast<float>(c)); }
+    CERTRAY_AVX2 static R add(R a, R b) { return _mm256_add_ps(a, b); }
+    CERTRAY_AVX2 static R sub(R a, R b) { return _mm256_sub_ps(a, b); }
+    CERTRAY_AVX2 static R mul(R a, R b) { return _mm256_mul_ps(a, b); }
+    CERTRAY_AVX2 static R div(R a, R b) { return _mm256_div_ps(a, b); }
+    CERTRAY_AVX2 static R sqrt(R a) { return _mm256_sqrt_ps(a); }
+    CERTRAY_AVX2 static R neg(R a) { return _mm256_xor_ps(a, _mm256_set1_ps(-0.0f)); }
+    CERTRAY_AVX2 static R max(R a, R b) { return _mm256_max_ps(a, b); }
+    CERTRAY_AVX2 static R min(R a, R b) { return _mm256_min_ps(a, b); }
+    CERTRAY_AVX2 static R prev(R a) {
+        return _mm256_castsi256_ps(_mm256_sub_epi32(_mm256_castps_si256(a), _mm256_set1_epi32(1)));
+    }
+    CERTRAY_AVX2 static M le(R a, R b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
+    CERTRAY_AVX2 static M lt(R a, R b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
+    CERTRAY_AVX2 static M eq(R a, R b) { return _mm256_cmp_ps(a, b, _CMP_EQ_OQ); }
+    CERTRAY_AVX2 static M ord(R a, R b) { return _mm256_cmp_ps(a, b, _CMP_ORD_Q); }
+    CERTRAY_AVX2 static M both(M a, M b) { return _mm256_and_ps(a, b); }
+    CERTRAY_AVX2 static M either(M a, M b) { return _mm256_or_ps(a, b); }
+    CERTRAY_AVX2 static R select(M m, R t, R f) { return _mm256_blendv_ps(f, t, m); }
+    CERTRAY_AVX2 static unsigned bits(M m) { return static_cast<unsigned>(_mm256_movemask_ps(m)); }
+    CERTRAY_AVX2 static unsigned same(R a, R b) {
+        return bits(_mm256_castsi256_ps(
+            _mm256_cmpeq_epi32(_mm256_castps_si256(a), _mm256_castps_si256(b))));
+    }
+};
+#undef CERTRAY_AVX2
+
 #define CERTRAY_AVX512 [[gnu::target("avx512f")]]
 struct IvAvx512 : Avx512 {
     using M = __mmask8;

@@ -132,6 +132,26 @@ struct Level {
     TangentCache folded_tangent;  ///< of folded.list
 };
 
+/// The inputs (x, y, z) and registers of the walks in lanes: IntervalLanes (double bounds) or
+/// IntervalLanesF (binary32 bounds, CoherentOptions::float_lanes).
+template <class L>
+struct LaneFile {
+    std::array<L, 3> in;
+    std::vector<L> regs;
+};
+
+/// Whether exp, log, sin and cos are at most a sixth of the instructions of `list`: the binary32
+/// walk takes them in double (widened, then rounded outward), which costs more than their share
+/// of eight lanes saves where they are many (the gyroid's quarter: 7% more time; Fidget's bear's
+/// 8%: 6–10% less; docs/benchmarks.md, session 19).
+bool mostly_arithmetic(const Ssa& list) {
+    const auto n = std::count_if(list.begin(), list.end(), [](const expr::Instr& in) {
+        return in.op == expr::Op::Exp || in.op == expr::Op::Log || in.op == expr::Op::Sin ||
+               in.op == expr::Op::Cos;
+    });
+    return 6 * static_cast<std::size_t>(n) <= list.size();
+}
+
 bool splittable(double a, double b) {
     const double m = 0.5 * a + 0.5 * b;
     return a < m && m < b;
@@ -191,7 +211,8 @@ class Walker {
           choices_(has_choices(tape.ssa())),
           t_splits_(rays.projection() != Projection::Ortho || tape.uses_var(2)),
           levels_(kMaxDepth),
-          tape_tangent_(expr::tangent_list(tape.ssa())) {
+          tape_tangent_(expr::tangent_list(tape.ssa())),
+          float_lanes_(options.float_lanes && mostly_arithmetic(tape.ssa())) {
         if (rays.projection() != Projection::List && options.render.aov != Aov::Depth &&
             options.depth_pixels > 0) {
             // A pixel's footprint: its angle times t (pinhole), or its side (ortho).
@@ -278,7 +299,22 @@ class Walker {
     void eval_lanes(const Ssa& list, const LaneBox* boxes, std::size_t n,
                     std::vector<UpInterval>& out, const Level* fold = nullptr);
     /// Writes the fixed values of level.folded into lanes 0 … m − 1 of their slots.
-    void load_fixed(const Level& level, int m);
+    template <class L>
+    void load_fixed(LaneFile<L>& file, const Level& level, int m);
+    template <class L>
+    void eval_lanes_in(LaneFile<L>& file, const Ssa& list, const LaneBox* boxes, std::size_t n,
+                       std::vector<UpInterval>& out, const Level* fold);
+    template <class L>
+    void eval_tangent_lanes_in(LaneFile<L>& file, const expr::TangentList& tl, const LaneBox* boxes,
+                               const std::array<double, 3>* dirs, std::size_t n,
+                               std::vector<UpInterval>& values, std::vector<UpInterval>& slopes,
+                               const Level* fold);
+    /// The four lanes of mean_value()'s form on a smooth list: g[0..2] the gradient's components
+    /// over the box x, g[3] the derivative along dc; false where the walk proves nothing (f not
+    /// defined and continuous on x, an unbounded component).
+    template <class L>
+    bool tangent_form_lanes(LaneFile<L>& file, const expr::TangentList& tl,
+                            const std::array<UpInterval, 3>& x, const double* dc, UpInterval* g);
     /// level.folded for the scan in lanes of `sub` over `box`, from level.values: `sub` is the
     /// list the node evaluated into level.values, or level.list, that list pruned by the
     /// node's prune_ssa (prune_ws_ as it left it). The subexpressions narrower than kFoldWidth
@@ -293,9 +329,10 @@ class Walker {
     /// folded list's where the level has one.
     expr::TangentKind lane_tangent_kind(const Ssa& list, unsigned depth, Level& level);
     const expr::TangentList* lane_tangent(const Ssa& list, unsigned depth, Level& level);
-    /// Loads boxes[0, m) into lanes 0 … m − 1 of lane_in_ (m ≤ kIntervalLanes): each axis the
+    /// Loads boxes[0, m) into lanes 0 … m − 1 of file.in (m ≤ kIntervalLanes): each axis the
     /// interval ray_box gives (empty where a bound is NaN or lo > hi).
-    void load_lanes(const LaneBox* boxes, int m);
+    template <class L>
+    void load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m);
     /// The tangent list of `list` (expr/tangent.h), or null when it has none; kept with the
     /// level whose list it is (`depth` or above).
     const expr::TangentList* tangent(const Ssa& list, unsigned depth);
@@ -512,6 +549,8 @@ class Walker {
     std::vector<std::size_t> form_of_;
     /// The tangent list of the tape's own list (expr/tangent.h), or none.
     const std::optional<expr::TangentList> tape_tangent_;
+    /// The walks in lanes in binary32 bounds (CoherentOptions::float_lanes).
+    const bool float_lanes_;
     struct Piece {
         unsigned i, j;
         double p, q;
@@ -560,8 +599,8 @@ class Walker {
     std::vector<std::array<double, 3>> quarter_dirs_;
     std::vector<UpInterval> fold_values_;  ///< fold()'s enclosures of the pruned list's slots
     std::vector<UpInterval> fold_regs_;    ///< fold()'s registers (the folded list at the centre)
-    std::array<expr::IntervalLanes, 3> lane_in_;  ///< eval_lanes()'s boxes, x, y, z
-    std::vector<expr::IntervalLanes> lane_regs_;  ///< eval_lanes()'s registers
+    LaneFile<expr::IntervalLanes> d64_;
+    LaneFile<expr::IntervalLanesF> f32_;
 };
 
 RayResult Walker::scan(const Ssa& list, const Ray& s, double width, int finer) {
@@ -725,31 +764,10 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
         // second vector of the tangent list for one lane (Barth's sextic 3% less time, Mitchell's
         // 4%). Interval seeds O − oc and D − dc would lose the cancellations inside each component
         // (twice as wide on Barth's sextic), so those sums are taken over the components.
-        LaneBox boxes[4];
-        for (int k = 0; k < 3; ++k) {
-            for (int l = 0; l < 4; ++l) {
-                boxes[l].lo[k] = x[k].lower();
-                boxes[l].hi[k] = x[k].upper();
-            }
-        }
-        load_lanes(boxes, 4);
-        if (lane_regs_.size() < tl->slots) lane_regs_.resize(tl->slots);
-        for (int k = 0; k < 3; ++k) {
-            expr::IntervalLanes& seed = lane_regs_[tl->seed[k]];
-            for (int l = 0; l < 3; ++l) expr::set_lane(seed, l, UpInterval(l == k ? 1.0 : 0.0));
-            expr::set_lane(seed, 3, UpInterval(dc[k]));
-        }
-        expr::run_interval_batch(tl->list.data(), tl->list.data() + tl->list.size(),
-                                 lane_in_.data(), lane_regs_.data(), 4);
-        const UpInterval v = expr::lane(lane_regs_[tl->value], 0);
-        if (v.is_empty() || !v.defined) return none;
         UpInterval g[4];
-        for (int l = 0; l < 4; ++l) {
-            g[l] = expr::lane(lane_regs_[tl->derivative], l);
-            if (g[l].is_empty() || !std::isfinite(g[l].lower()) || !std::isfinite(g[l].upper())) {
-                return none;
-            }
-        }
+        // Four lanes: half a vector of binary32 lanes, so the double walk.
+        const bool formed = tangent_form_lanes(d64_, *tl, x, dc, g);
+        if (!formed) return none;
         expr::detail::run<UpInterval>(list, c, centre_.data());
         UpInterval m = centre_[list.back().out];
         if (m.is_empty() || !m.defined) return none;
@@ -1048,16 +1066,53 @@ void Walker::settle(unsigned i, unsigned j, const Ray& s, RayResult res, bool sc
     answer(i, j, p, res, list, s.tmin, s.tmax);
 }
 
-void Walker::load_lanes(const LaneBox* boxes, int m) {
+template <class L>
+bool Walker::tangent_form_lanes(LaneFile<L>& file, const expr::TangentList& tl,
+                                const std::array<UpInterval, 3>& x, const double* dc,
+                                UpInterval* g) {
+    LaneBox boxes[4];
+    for (int k = 0; k < 3; ++k) {
+        for (int l = 0; l < 4; ++l) {
+            boxes[l].lo[k] = x[k].lower();
+            boxes[l].hi[k] = x[k].upper();
+        }
+    }
+    load_lanes(file, boxes, 4);
+    if (file.regs.size() < tl.slots) file.regs.resize(tl.slots);
+    for (int k = 0; k < 3; ++k) {
+        L& seed = file.regs[tl.seed[k]];
+        for (int l = 0; l < 3; ++l) expr::set_lane(seed, l, UpInterval(l == k ? 1.0 : 0.0));
+        expr::set_lane(seed, 3, UpInterval(dc[k]));
+    }
+    expr::run_interval_batch(tl.list.data(), tl.list.data() + tl.list.size(), file.in.data(),
+                             file.regs.data(), 4);
+    const UpInterval v = expr::lane(file.regs[tl.value], 0);
+    if (v.is_empty() || !v.defined) return false;
+    for (int l = 0; l < 4; ++l) {
+        g[l] = expr::lane(file.regs[tl.derivative], l);
+        if (g[l].is_empty() || !std::isfinite(g[l].lower()) || !std::isfinite(g[l].upper())) {
+            return false;
+        }
+    }
+    return true;
+}
+
+template <class L>
+void Walker::load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m) {
     static_assert(expr::kIntervalLanes <= 64, "one word of decorations per register");
     for (int c = 0; c < 3; ++c) {
-        expr::IntervalLanes& x = lane_in_[c];
+        L& x = file.in[c];
         std::uint64_t def = 0;
         for (int k = 0; k < m; ++k) {
             const double lo = boxes[k].lo[c], hi = boxes[k].hi[c];
             if (lo <= hi) {
-                x.lo[k] = lo;
-                x.hi[k] = hi;
+                if constexpr (std::is_same_v<L, expr::IntervalLanesF>) {  // rounded outward
+                    x.lo[k] = expr::lower_f32(lo);
+                    x.hi[k] = expr::upper_f32(hi);
+                } else {
+                    x.lo[k] = lo;
+                    x.hi[k] = hi;
+                }
                 def |= std::uint64_t{1} << k;
             } else {
                 expr::set_lane(x, k, UpInterval::empty());
@@ -1069,27 +1124,43 @@ void Walker::load_lanes(const LaneBox* boxes, int m) {
 
 void Walker::eval_lanes(const Ssa& list, const LaneBox* boxes, std::size_t n,
                         std::vector<UpInterval>& out, const Level* fold) {
+    if (float_lanes_) {
+        eval_lanes_in(f32_, list, boxes, n, out, fold);
+    } else {
+        eval_lanes_in(d64_, list, boxes, n, out, fold);
+    }
+}
+
+template <class L>
+void Walker::eval_lanes_in(LaneFile<L>& file, const Ssa& list, const LaneBox* boxes, std::size_t n,
+                           std::vector<UpInterval>& out, const Level* fold) {
     if (fold != nullptr && fold->folded.list.empty()) fold = nullptr;
     const Ssa& walked = fold != nullptr ? fold->folded.list : list;
     // The folded list's slots (and its fixed ones) are the list's: fewer than its length.
-    if (lane_regs_.size() < list.size()) lane_regs_.resize(list.size());
+    if (file.regs.size() < list.size()) file.regs.resize(list.size());
     if (out.size() < n) out.resize(n);
     const std::uint32_t f = walked.back().out;
     for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
         const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
-        load_lanes(boxes + k0, m);
-        if (fold != nullptr) load_fixed(*fold, m);
-        expr::run_interval_batch(walked.data(), walked.data() + walked.size(), lane_in_.data(),
-                                 lane_regs_.data(), m);
-        for (int k = 0; k < m; ++k) out[k0 + k] = expr::lane(lane_regs_[f], k);
+        load_lanes(file, boxes + k0, m);
+        if (fold != nullptr) load_fixed(file, *fold, m);
+        expr::run_interval_batch(walked.data(), walked.data() + walked.size(), file.in.data(),
+                                 file.regs.data(), m);
+        for (int k = 0; k < m; ++k) out[k0 + k] = expr::lane(file.regs[f], k);
     }
 }
 
-void Walker::load_fixed(const Level& level, int m) {
+template <class L>
+void Walker::load_fixed(LaneFile<L>& file, const Level& level, int m) {
     for (const auto& [slot, v] : level.folded.fixed) {
-        expr::IntervalLanes& x = lane_regs_[slot];
-        std::fill(x.lo, x.lo + m, v.lower());
-        std::fill(x.hi, x.hi + m, v.upper());
+        L& x = file.regs[slot];
+        if constexpr (std::is_same_v<L, expr::IntervalLanesF>) {  // rounded outward
+            std::fill(x.lo, x.lo + m, expr::lower_f32(v.lower()));
+            std::fill(x.hi, x.hi + m, expr::upper_f32(v.upper()));
+        } else {
+            std::fill(x.lo, x.lo + m, v.lower());
+            std::fill(x.hi, x.hi + m, v.upper());
+        }
         x.defined[0] = ~std::uint64_t{0};  // fold_ssa fixes defined enclosures only
     }
 }
@@ -1178,23 +1249,35 @@ void Walker::eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxe
                                 const std::array<double, 3>* dirs, std::size_t n,
                                 std::vector<UpInterval>& values, std::vector<UpInterval>& slopes,
                                 const Level* fold) {
-    if (lane_regs_.size() < tl.slots) lane_regs_.resize(tl.slots);
+    if (float_lanes_) {
+        eval_tangent_lanes_in(f32_, tl, boxes, dirs, n, values, slopes, fold);
+    } else {
+        eval_tangent_lanes_in(d64_, tl, boxes, dirs, n, values, slopes, fold);
+    }
+}
+
+template <class L>
+void Walker::eval_tangent_lanes_in(LaneFile<L>& file, const expr::TangentList& tl,
+                                   const LaneBox* boxes, const std::array<double, 3>* dirs,
+                                   std::size_t n, std::vector<UpInterval>& values,
+                                   std::vector<UpInterval>& slopes, const Level* fold) {
+    if (file.regs.size() < tl.slots) file.regs.resize(tl.slots);
     if (values.size() < n) values.resize(n);
     if (slopes.size() < n) slopes.resize(n);
     for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
         const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
-        load_lanes(boxes + k0, m);
-        if (fold != nullptr) load_fixed(*fold, m);  // none where the level has no folded list
+        load_lanes(file, boxes + k0, m);
+        if (fold != nullptr) load_fixed(file, *fold, m);  // none where the level has no folded list
         for (int k = 0; k < m; ++k) {
             for (int c = 0; c < 3; ++c) {
-                expr::set_lane(lane_regs_[tl.seed[c]], k, UpInterval(dirs[k0 + k][c]));
+                expr::set_lane(file.regs[tl.seed[c]], k, UpInterval(dirs[k0 + k][c]));
             }
         }
-        expr::run_interval_batch(tl.list.data(), tl.list.data() + tl.list.size(), lane_in_.data(),
-                                 lane_regs_.data(), m);
+        expr::run_interval_batch(tl.list.data(), tl.list.data() + tl.list.size(), file.in.data(),
+                                 file.regs.data(), m);
         for (int k = 0; k < m; ++k) {
-            values[k0 + k] = expr::lane(lane_regs_[tl.value], k);
-            slopes[k0 + k] = expr::lane(lane_regs_[tl.derivative], k);
+            values[k0 + k] = expr::lane(file.regs[tl.value], k);
+            slopes[k0 + k] = expr::lane(file.regs[tl.derivative], k);
         }
     }
 }

@@ -30,8 +30,10 @@
 #include "expr/graph.h"
 #include "expr/prune.h"
 #include "expr/tape.h"
+#include "interval/mpfr_interval.h"
 #include "tests/support/batch_isa.h"
 #include "tests/support/generators.h"
+#include "tests/support/mpfr_oracle.h"
 #include "tests/support/random_dag.h"
 
 namespace certray::expr {
@@ -174,9 +176,11 @@ TEST(IntervalBatch, LanesRoundTrip) {
     }
 }
 
-/// x ∘ y for every op on every pair of special boxes (one pair per lane), written to a new
-/// register and in place (the output register is x's, then y's).
-TEST(IntervalBatch, EveryOpOnEveryPairOfSpecialBoxes) {
+/// Every op on every pair of special boxes (x, y; one pair per lane, in batches of lanes), written
+/// to a new register and in place (the output register is x's, then y's): `failure(list, boxes)`
+/// of each, "" where it passes.
+template <class Failure>
+void every_op_on_special_pairs(Failure failure) {
     const std::vector<UpInterval> s = special_boxes();
     std::vector<Boxes> batches(1);
     for (std::size_t i = 0; i < s.size(); ++i) {
@@ -192,12 +196,14 @@ TEST(IntervalBatch, EveryOpOnEveryPairOfSpecialBoxes) {
             const std::vector<Instr> list = {
                 {Op::VarX, 0, 0, 0, 0.0}, {Op::VarY, 1, 0, 0, 0.0}, op};
             for (const Boxes& b : batches) {
-                const std::string m = mismatch(list, b);
-                EXPECT_EQ(m, "") << name(op.op) << " into register " << out;
+                EXPECT_EQ(failure(list, b), "") << name(op.op) << " into register " << out;
             }
         }
     }
 }
+
+/// x ∘ y for every op on every pair of special boxes, bit for bit as the scalar walk.
+TEST(IntervalBatch, EveryOpOnEveryPairOfSpecialBoxes) { every_op_on_special_pairs(mismatch); }
 
 /// Constants, and an op whose operands are one register (x ∘ x).
 TEST(IntervalBatch, ConstantsAndSharedOperands) {
@@ -344,6 +350,183 @@ RC_GTEST_PROP(IntervalBatchProperty, PrunedSsaListsMatchTheScalarWalk, ()) {
     }
     RC_CLASSIFY(shorter);
     const std::string m = mismatch(shorter ? pruned : ssa, *gen_boxes());
+    RC_ASSERT(m == "");
+}
+
+// ---- the binary32 walk -----------------------------------------------------------------------
+
+TEST(IntervalBatchF32, OutwardRounding) {
+    const float fmax = std::numeric_limits<float>::max();
+    const float fsub = std::numeric_limits<float>::denorm_min();
+    const float finf = std::numeric_limits<float>::infinity();
+    // binary32 numbers are kept exactly, signed zeros included.
+    for (double x : {0.0, 1.0, -2.5, 0.375, static_cast<double>(fmax), static_cast<double>(fsub)}) {
+        EXPECT_EQ(lower_f32(x), static_cast<float>(x)) << x;
+        EXPECT_EQ(upper_f32(x), static_cast<float>(x)) << x;
+    }
+    EXPECT_TRUE(std::signbit(lower_f32(-0.0)) && std::signbit(upper_f32(-0.0)));
+    EXPECT_EQ(lower_f32(kInf), finf);
+    EXPECT_EQ(upper_f32(-kInf), -finf);
+    // 0.1 lies strictly between two binary32 neighbours 2⁻²⁷ apart (its exponent is −4).
+    EXPECT_LT(static_cast<double>(lower_f32(0.1)), 0.1);
+    EXPECT_GT(static_cast<double>(upper_f32(0.1)), 0.1);
+    EXPECT_EQ(std::nextafter(lower_f32(0.1), finf), upper_f32(0.1));
+    EXPECT_EQ(upper_f32(-0.1), -lower_f32(0.1));
+    // Past the largest binary32 number and below the smallest subnormal.
+    EXPECT_EQ(lower_f32(DBL_MAX), fmax);
+    EXPECT_EQ(upper_f32(DBL_MAX), finf);
+    EXPECT_EQ(lower_f32(-DBL_MAX), -finf);
+    EXPECT_EQ(lower_f32(1e-300), 0.0f);
+    EXPECT_EQ(upper_f32(1e-300), fsub);
+    EXPECT_EQ(lower_f32(-1e-300), -fsub);
+    EXPECT_TRUE(std::isnan(lower_f32(std::nan(""))) && std::isnan(upper_f32(std::nan(""))));
+    // The same in upward mode, where the conversion itself rounds up.
+    RoundingScope up;
+    EXPECT_LT(static_cast<double>(lower_f32(0.1)), 0.1);
+    EXPECT_EQ(lower_f32(-1e-300), -fsub);
+    EXPECT_EQ(upper_f32(1e-300), fsub);
+}
+
+/// Runs `list` over `boxes` with the binary32 walk on every copy (as the host of this run) and
+/// with the scalar double walk over the same boxes rounded outward to binary32 (the boxes the
+/// binary32 walk sees). When `each_op`, every register of the binary32 walk must hold the scalar
+/// one's interval (and be empty only where it is, defined only where it is): what one op over the
+/// same operands must satisfy, since each binary32 bound is an operation rounded outward to
+/// binary32 or a double bound rounded outward. Otherwise only the output is compared, by
+/// `check(lane, got)`. Returns a description of the first failure, or "".
+template <class Check>
+std::string f32_failure(const std::vector<Instr>& list, const Boxes& boxes, bool each_op,
+                        Check check) {
+    const int n = static_cast<int>(boxes.size());
+    std::uint32_t registers = 0;
+    std::set<std::uint32_t> written;
+    for (const Instr& in : list) {
+        registers = std::max(registers, in.out + 1);
+        written.insert(in.out);
+    }
+    std::array<IntervalLanesF, 3> p{};
+    for (int i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k) set_lane(p[k], i, boxes[i][k]);
+    }
+    std::vector<std::vector<UpInterval>> want(n, std::vector<UpInterval>(registers));
+    {
+        RoundingScope up;
+        for (int i = 0; i < n; ++i) {
+            const std::array<UpInterval, 3> box = {lane(p[0], i), lane(p[1], i), lane(p[2], i)};
+            detail::run<UpInterval>(list, box, want[i].data());
+        }
+    }
+    IsaGuard guard;
+    std::vector<IntervalLanesF> r(registers);
+    for (BatchIsa isa : batch_isas()) {
+        set_batch_isa(isa);
+        for (IntervalLanesF& reg : r) {
+            for (int i = 0; i < kIntervalLanes; ++i) set_lane(reg, i, UpInterval(-12345.0));
+        }
+        testing::as_host([&] {
+            RoundingScope up;
+            run_interval_batch(list.data(), list.data() + list.size(), p.data(), r.data(), n);
+            return 0;
+        });
+        for (std::uint32_t reg : written) {
+            if (!each_op && reg != list.back().out) continue;
+            for (int i = 0; i < n; ++i) {
+                const UpInterval got = lane(r[reg], i), w = want[i][reg];
+                std::string why;
+                if (!each_op) {
+                    why = check(i, got);
+                } else if (!w.is_empty() && got.is_empty()) {
+                    why = "empty";
+                } else if (!w.is_empty() &&
+                           !(got.lower() <= w.lower() && w.upper() <= got.upper())) {
+                    why = "narrower";
+                } else if (got.defined && !w.defined) {
+                    why = "defined";
+                }
+                if (!why.empty()) {
+                    std::ostringstream os;
+                    os << batch_isa_name(isa) << " n=" << n << " lane " << i << " register " << reg
+                       << ": " << why << ": binary32 " << show(got) << ", double " << show(w)
+                       << "; box x " << show(boxes[i][0]) << " y " << show(boxes[i][1]) << " z "
+                       << show(boxes[i][2]);
+                    return os.str();
+                }
+            }
+        }
+    }
+    return "";
+}
+
+std::string f32_op_failure(const std::vector<Instr>& list, const Boxes& boxes) {
+    return f32_failure(list, boxes, true, [](int, const UpInterval&) { return std::string(); });
+}
+
+/// x ∘ y for every op on every pair of special boxes: the double walk's interval over the same
+/// binary32 operands, or wider.
+TEST(IntervalBatchF32, EveryOpOnEveryPairOfSpecialBoxes) {
+    every_op_on_special_pairs(f32_op_failure);
+}
+
+/// Constants (rounded outward to binary32, exactly where they are binary32 numbers), and x ∘ x.
+/// (An op on a constant is not compared with the double walk's: that one takes the constant
+/// itself, and exp(1e−310) widened by its ulps is wider than exp([0, 2⁻¹⁴⁹]) = [1, …].)
+TEST(IntervalBatchF32, ConstantsAndSharedOperands) {
+    const std::vector<UpInterval> s = special_boxes();
+    Boxes boxes;
+    for (std::size_t i = 0; i < s.size(); ++i) boxes.push_back({s[i], s[i], s[i]});
+    for (const Instr& op : every_op_instrs(2, 1, 1)) {
+        const std::vector<Instr> list = {{Op::VarZ, 1, 0, 0, 0.0}, op, {op.op, 1, 1, 1, 0.0}};
+        EXPECT_EQ(f32_op_failure(list, boxes), "") << name(op.op);
+    }
+    for (double c : {0.0, -0.0, 1.0, -3.5, 1e-310, DBL_MAX, 0.1}) {
+        const std::vector<Instr> one = {{Op::Const, 0, 0, 0, c}};
+        const std::string m = f32_failure(one, boxes, false, [c](int, const UpInterval& got) {
+            const bool exact = got.lower() == static_cast<double>(lower_f32(c)) &&
+                               got.upper() == static_cast<double>(upper_f32(c)) && got.defined;
+            return exact ? std::string() : std::string("not the constant rounded outward");
+        });
+        EXPECT_EQ(m, "") << c;
+    }
+}
+
+/// Every op over random boxes (the operands x and y of each lane), to a new register and in
+/// place: the binary32 result holds the double one over the same binary32 operands.
+RC_GTEST_PROP(IntervalBatchF32Property, EachOpHoldsTheDoubleIntervalOnRandomBoxes, ()) {
+    const Boxes boxes = *gen_boxes();
+    const std::uint32_t out = *rc::gen::inRange(0u, 3u);
+    for (const Instr& op : every_op_instrs(out, 0, 1)) {
+        const std::vector<Instr> list = {{Op::VarX, 0, 0, 0, 0.0}, {Op::VarY, 1, 0, 0, 0.0}, op};
+        const std::string m = f32_op_failure(list, boxes);
+        RC_ASSERT(m == "");
+    }
+}
+
+/// Random DAGs of every op, at a random point of each lane's box: the binary32 walk's enclosure
+/// over the box holds f's value there by MPFR at 256 bits, and where it says defined, f is.
+RC_GTEST_PROP(IntervalBatchF32Property, EnclosesMpfrAtPointsOfTheBoxes, ()) {
+    const Tape t(*gen_any_dag(24));
+    const int n = *rc::gen::inRange(1, kIntervalLanes + 1);
+    Boxes boxes(n);
+    std::vector<std::array<double, 3>> points(n);
+    for (int i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            const auto [lo, hi] = *testing::gen_bounds();
+            boxes[i][k] = UpInterval(lo, hi);
+            points[i][k] = *testing::gen_point_in(lo, hi);
+        }
+    }
+    const bool ssa = *rc::gen::arbitrary<bool>();
+    const std::string m =
+        f32_failure(ssa ? t.ssa() : t.instrs(), boxes, false, [&](int i, const UpInterval& got) {
+            const MpfrInterval exact =
+                eval<MpfrInterval>(t, {MpfrInterval(points[i][0]), MpfrInterval(points[i][1]),
+                                       MpfrInterval(points[i][2])});
+            if (!testing::encloses(got.lower(), got.upper(), exact)) {
+                return "misses " + testing::describe(exact);
+            }
+            if (got.defined && exact.is_empty()) return std::string("defined where f is not");
+            return std::string();
+        });
     RC_ASSERT(m == "");
 }
 

@@ -827,6 +827,7 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     o.segment_forms = *rc::gen::arbitrary<bool>();
     o.monotone_segments = *rc::gen::arbitrary<bool>();
     o.segment_enclosures_first = *rc::gen::arbitrary<bool>();
+    o.float_lanes = *rc::gen::arbitrary<bool>();  // binary32 walks, where the list is arithmetic
     o.fold_lists = *rc::gen::element(0u, 4u, 16u, 128u);  // 4: folded wherever it drops enough
     o.folded_together_rays = *rc::gen::element(0u, 64u, 1024u);  // nodes of up to 1024 rays
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
