@@ -26,8 +26,9 @@
 // batch_isa(). Decorations are bit masks, so a lane's decoration costs a bit of a mask register.
 // The binary32 walk (IntervalLanesF) is the same template over binary32 vectors (IvSse2F, IvAvx2F;
 // AVX-512 machines take AVX2's): the kernels of + − × ÷ square √ neg abs min max 1/x, their
-// Boost lanes by the scalar operation rounded outward, every other op through the double walk
-// (via_double), so its contract is inclusion, not equality.
+// Boost lanes by the scalar operation rounded outward, exp and log by interval/exp_log_kernel_f32.h
+// (exp_log_lanes_f32), every other op through the double walk (via_double), so its contract is
+// inclusion, not equality.
 // Reference: docs/theory/interval_batch.md; timings in docs/benchmarks.md, "Interval batch walk".
 #include "expr/eval_interval_batch.h"
 
@@ -614,6 +615,61 @@ WalkFn walk_for(BatchIsa isa) noexcept;
     o.defined[0] = d[2].defined[0];
 }
 
+/// exp (is_exp) or log of lanes 0 … n − 1 of binary32 registers: interval/exp_log_kernel_f32.h's
+/// bounds where both bounds of a lane take it (exp: −87 ≤ lo ≤ hi ≤ 88; log: normal positive
+/// finite lo ≤ hi), with the operand's decoration (each is defined and continuous there);
+/// elsewhere the scalar exp() or log() on the lane widened, rounded outward. Each block of lanes
+/// is read before it is written (the output may be the operand's register).
+template <class V>
+[[gnu::always_inline]] inline void exp_log_lanes_f32(bool is_exp, const LanesF& a, LanesF& o,
+                                                     int n) {
+    using R = typename V::R;
+    using K = certray::detail::ExpKernelF32;
+    constexpr int W = V::kWidth;
+    constexpr unsigned kAll = (1u << W) - 1;
+    R lo_coef[10], hi_coef[10];
+    for (int i = 0; i < 10; ++i) {
+        lo_coef[i] = V::set1(K::kLo[i]);
+        hi_coef[i] = V::set1(K::kHi[i]);
+    }
+    const std::uint64_t def = a.defined[0];  // read before o is written
+    std::uint64_t slow = 0, slow_def = 0;
+    for (int k = 0; k < n; k += W) {
+        const R l = V::load(a.lo + k), u = V::load(a.hi + k);
+        const unsigned live = n - k >= W ? kAll : (1u << (n - k)) - 1;
+        using KL = certray::detail::LogKernelF32;
+        const R low = V::set1(is_exp ? K::kLower : KL::kMinNormal);
+        const R high = V::set1(is_exp ? K::kUpper : KL::kMax);
+        const unsigned ok = V::bits(V::both(V::le(l, u), V::both(V::le(low, l), V::le(u, high))));
+        R lo, hi;
+        if (is_exp) {
+            lo = V::neg(certray::detail::exp_bound_f32<V>(l, V::set1(-1.0), lo_coef));
+            hi = certray::detail::exp_bound_f32<V>(u, V::set1(1.0), hi_coef);
+        } else {
+            lo = V::neg(certray::detail::log_bound_f32<V>(l, V::set1(-1.0)));
+            hi = certray::detail::log_bound_f32<V>(u, V::set1(1.0));
+        }
+        if (const unsigned s = ~ok & live; s != 0) [[unlikely]] {
+            alignas(64) float bl[W], bh[W];
+            V::store(bl, lo);
+            V::store(bh, hi);
+            for (unsigned m = s; m != 0; m &= m - 1) {
+                const int j = __builtin_ctz(m);
+                const UpInterval v = is_exp ? exp(lane(a, k + j)) : log(lane(a, k + j));
+                bl[j] = lower_f32(v.lower());
+                bh[j] = upper_f32(v.upper());
+                slow_def |= std::uint64_t{v.defined} << (k + j);
+            }
+            slow |= std::uint64_t{s} << k;
+            lo = V::load(bl);
+            hi = V::load(bh);
+        }
+        V::store(o.lo + k, lo);
+        V::store(o.hi + k, hi);
+    }
+    o.defined[0] = (def & ~slow) | slow_def;
+}
+
 /// The walk over vectors of V on registers L: IntervalLanes (V of doubles) or IntervalLanesF (V
 /// of floats; the ops without a vector kernel through via_double on the double walk `dwalk`).
 template <class V, class L = Lanes>
@@ -654,7 +710,11 @@ inline void walk(const Instr* in, const Instr* const end, const L* p, L* r, int 
             case Op::Sin:
             case Op::Cos:
                 if constexpr (kF32) {
-                    via_double(*in, r, n, dwalk);
+                    if (in->op == Op::Exp || in->op == Op::Log) {
+                        exp_log_lanes_f32<V>(in->op == Op::Exp, r[in->a], r[in->out], n);
+                    } else {
+                        via_double(*in, r, n, dwalk);
+                    }
                 } else if (in->op == Op::Exp) {
                     exp_lanes<V>(r[in->a], r[in->out], n);
                 } else if (in->op == Op::Log) {

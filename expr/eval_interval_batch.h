@@ -113,11 +113,12 @@ void run_interval_batch(const Instr* begin, const Instr* end, const IntervalLane
 /// the box lies inside, and the decoration says "defined and continuous on the whole box" only
 /// where it is — with binary32 bounds, never narrower than the exact range rounded outward to
 /// binary32. + − × ÷ square √ neg abs min max and 1/x apply the UpInterval kernels' formulas to
-/// binary32 vectors in upward mode; the lanes those send to Boost's case tables and every other
-/// op are taken in double (the bounds widened exactly, the scalar or batched UpInterval operation)
-/// and rounded outward. Same preconditions as the double walk (a RoundingScope held, 1 ≤ n ≤
-/// kIntervalLanes, an instruction may write an operand's register); allocates nothing.
-/// Reference: docs/theory/interval_batch.md, "Binary32 lanes".
+/// binary32 vectors in upward mode, exp and log the binary32 kernels of
+/// interval/exp_log_kernel_f32.h where both bounds of a lane are in their range; the other lanes
+/// and every other op are taken in double (the bounds widened exactly, the scalar or batched
+/// UpInterval operation) and rounded outward. Same preconditions as the double walk (a
+/// RoundingScope held, 1 ≤ n ≤ kIntervalLanes, an instruction may write an operand's register);
+/// allocates nothing. Reference: docs/theory/interval_batch.md, "Binary32 lanes".
 void run_interval_batch(const Instr* begin, const Instr* end, const IntervalLanesF* p,
                         IntervalLanesF* r, int n);
 

@@ -17,6 +17,7 @@
 
 #include "expr/batch_simd.h"
 #include "interval/exp_log_kernel.h"
+#include "interval/exp_log_kernel_f32.h"
 #include "interval/trig_kernel.h"
 
 namespace certray::expr::detail {
@@ -101,7 +102,8 @@ struct IvAvx2 : Avx2 {
 
 // Binary32 lanes for the float walk: the operations the kernels of + − × ÷ square √ neg abs min
 // max take, as IvSse2's and IvAvx2's on four and eight binary32 lanes (set1 of a double that is a
-// binary32 number: the constants 0, −0, 1 and NaN of the kernels).
+// binary32 number: the constants 0, −0, 1 and NaN of the kernels), and what
+// interval/exp_log_kernel_f32.h's needs (sign_of, flip, pow2 as its KernelSse2F's).
 struct IvSse2F {
     using R = __m128;
     using M = __m128;
@@ -115,6 +117,10 @@ struct IvSse2F {
     static R div(R a, R b) { return _mm_div_ps(a, b); }
     static R sqrt(R a) { return _mm_sqrt_ps(a); }
     static R neg(R a) { return _mm_xor_ps(a, _mm_set1_ps(-0.0f)); }
+    static R sign_of(R a) { return certray::detail::KernelSse2F::sign_of(a); }
+    static R flip(R a, R m) { return certray::detail::KernelSse2F::flip(a, m); }
+    static R pow2(R kd) { return certray::detail::KernelSse2F::pow2(kd); }
+    static void log_split(R x, R& e, R& m) { certray::detail::KernelSse2F::log_split(x, e, m); }
     static R max(R a, R b) { return _mm_max_ps(a, b); }
     static R min(R a, R b) { return _mm_min_ps(a, b); }
     static R prev(R a) {
@@ -147,6 +153,27 @@ struct IvAvx2F {
     CERTRAY_AVX2 static R div(R a, R b) { return _mm256_div_ps(a, b); }
     CERTRAY_AVX2 static R sqrt(R a) { return _mm256_sqrt_ps(a); }
     CERTRAY_AVX2 static R neg(R a) { return _mm256_xor_ps(a, _mm256_set1_ps(-0.0f)); }
+    CERTRAY_AVX2 static R sign_of(R a) { return _mm256_and_ps(a, _mm256_set1_ps(-0.0f)); }
+    CERTRAY_AVX2 static R flip(R a, R m) { return _mm256_xor_ps(a, m); }
+    CERTRAY_AVX2 static void log_split(R x, R& e, R& m) {  // as KernelSse2F's, eight lanes
+        using K = certray::detail::ExpKernelF32;
+        const __m256i b = _mm256_castps_si256(x);
+        const __m256i eb =
+            _mm256_add_epi32(_mm256_srli_epi32(b, 23), _mm256_set1_epi32(K::kPow2Bias));
+        const R big_e = _mm256_sub_ps(_mm256_castsi256_ps(eb), _mm256_set1_ps(K::kMagic));
+        const R f = _mm256_castsi256_ps(_mm256_or_si256(
+            _mm256_and_si256(b, _mm256_set1_epi32(0x007fffff)), _mm256_set1_epi32(0x3f800000)));
+        const R big =
+            _mm256_cmp_ps(f, _mm256_set1_ps(certray::detail::LogKernelF32::kSqrt2), _CMP_GE_OQ);
+        e = _mm256_add_ps(big_e, _mm256_and_ps(big, _mm256_set1_ps(1.0f)));
+        m = _mm256_blendv_ps(f, _mm256_mul_ps(f, _mm256_set1_ps(0.5f)), big);
+    }
+    CERTRAY_AVX2 static R pow2(R kd) {  // as KernelSse2F::pow2, eight lanes
+        using K = certray::detail::ExpKernelF32;
+        const __m256i b = _mm256_castps_si256(_mm256_add_ps(kd, _mm256_set1_ps(K::kMagic)));
+        return _mm256_castsi256_ps(
+            _mm256_slli_epi32(_mm256_sub_epi32(b, _mm256_set1_epi32(K::kPow2Bias)), 23));
+    }
     CERTRAY_AVX2 static R max(R a, R b) { return _mm256_max_ps(a, b); }
     CERTRAY_AVX2 static R min(R a, R b) { return _mm256_min_ps(a, b); }
     CERTRAY_AVX2 static R prev(R a) {

@@ -140,14 +140,34 @@ struct LaneFile {
     std::vector<L> regs;
 };
 
-/// Whether exp, log, sin and cos are at most a sixth of the instructions of `list`: the binary32
-/// walk takes them in double (widened, then rounded outward), which costs more than their share
-/// of eight lanes saves where they are many (the gyroid's quarter: 7% more time; Fidget's bear's
-/// 8%: 6–10% less; docs/benchmarks.md, session 19).
+/// Whether the ops that the binary32 walk takes in double (widened, the double walk's step,
+/// rounded outward: sin, cos and the ops without a vector kernel) are at most a sixth of the
+/// instructions of `list`: where they are many, that costs more than eight lanes save (the
+/// gyroid's quarter of sin and cos: 7% more time; docs/benchmarks.md, session 19).
 bool mostly_arithmetic(const Ssa& list) {
     const auto n = std::count_if(list.begin(), list.end(), [](const expr::Instr& in) {
-        return in.op == expr::Op::Exp || in.op == expr::Op::Log || in.op == expr::Op::Sin ||
-               in.op == expr::Op::Cos;
+        switch (in.op) {
+            case expr::Op::Const:
+            case expr::Op::VarX:
+            case expr::Op::VarY:
+            case expr::Op::VarZ:
+            case expr::Op::Neg:
+            case expr::Op::Abs:
+            case expr::Op::Square:
+            case expr::Op::Sqrt:
+            case expr::Op::Add:
+            case expr::Op::Sub:
+            case expr::Op::Mul:
+            case expr::Op::Div:
+            case expr::Op::Recip:
+            case expr::Op::Min:
+            case expr::Op::Max:
+            case expr::Op::Exp:
+            case expr::Op::Log:
+                return false;
+            default:
+                return true;
+        }
     });
     return 6 * static_cast<std::size_t>(n) <= list.size();
 }

@@ -158,11 +158,14 @@ struct CoherentOptions {
     /// The same decisions, bit for bit, in fewer lanes: Fidget's bear 0.86–0.93 of the time
     /// (docs/benchmarks.md, session 18). Off: every segment's form at once.
     bool segment_enclosures_first = true;
-    /// The walks in lanes (pieces, points, segment forms, boxes' mean value forms) run in binary32
-    /// bounds (expr/eval_interval_batch.h: eight lanes per AVX2 instruction instead of four),
-    /// each bound rounded outward, so that every enclosure holds what the double walk's holds
-    /// over the same boxes, a little wider. The answers keep their meaning; the proofs of the
-    /// node boxes, the solver and the normals stay in double. Off: the double walk.
+    /// The scans' walks in lanes (pieces, points, tiles, quarters, segment enclosures and forms)
+    /// run in binary32 bounds (expr/eval_interval_batch.h: eight lanes per AVX2 instruction
+    /// instead of four), each bound rounded outward, so that every enclosure holds the real values
+    /// over a box that holds the scan's. The answers keep their meaning; the node boxes and their
+    /// mean value forms, the solver and the normals stay in double, and so do lists in which sin,
+    /// cos and the ops without a binary32 kernel are more than a sixth of the instructions.
+    /// Fidget's bear 0.76–0.82 of the time, the molecule 0.76 (docs/benchmarks.md, session 19).
+    /// Off: the double walk.
     bool float_lanes = true;
     /// The scans in lanes of a node whose list has at least this many instructions walk it folded
     /// to the node's box (expr::fold_ssa): the subexpressions whose enclosures over the box are at

@@ -8,12 +8,15 @@
 #include <rapidcheck/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "interval/exp_log_kernel_f32.h"
 #include "interval/interval.h"
 #include "interval/mpfr_interval.h"
 #include "tests/support/mpfr_oracle.h"
@@ -169,6 +172,188 @@ TEST(ExpKernel, IntervalExpAtTheEdges) {
     EXPECT_EQ(exp(Interval(0.0)).lower(), 1.0);  // exact where exp is
     EXPECT_EQ(exp(Interval(0.0)).upper(), 1.0);
     EXPECT_EQ(exp(Interval(-inf, 0.0)).lower(), 0.0);
+}
+
+// ---- the binary32 exp kernel (interval/exp_log_kernel_f32.h) ----------------------------------
+
+TEST(ExpKernelF32, Constants) {
+    using K = detail::ExpKernelF32;
+    for (unsigned i = 0; i <= 9; ++i) {
+        Big f, lo, hi;
+        mpfr_fac_ui(f.v, i, MPFR_RNDN);
+        mpfr_ui_div(lo.v, 1, f.v, MPFR_RNDD);
+        mpfr_ui_div(hi.v, 1, f.v, MPFR_RNDU);
+        EXPECT_GE(mpfr_cmp_d(lo.v, K::kLo[i]), 0) << i;
+        EXPECT_LE(mpfr_cmp_d(hi.v, K::kHi[i]), 0) << i;
+        if (i < 9) {
+            EXPECT_TRUE(std::nextafter(K::kLo[i], 1.0f) == K::kHi[i] || K::kLo[i] == K::kHi[i])
+                << i << ": the bounds are equal or adjacent floats";
+        }
+    }
+    // The last upper bound holds the remainder: 1/9! + ρ·e^ρ/10! with ρ = 0.6935.
+    Big rho, e, t, f;
+    mpfr_set_str(rho.v, "0.6935", 10, MPFR_RNDU);
+    mpfr_exp(e.v, rho.v, MPFR_RNDU);
+    EXPECT_LT(mpfr_cmp_d(e.v, 2.001), 0);
+    mpfr_mul(t.v, rho.v, e.v, MPFR_RNDU);
+    mpfr_fac_ui(f.v, 10, MPFR_RNDN);
+    mpfr_div(t.v, t.v, f.v, MPFR_RNDU);
+    mpfr_fac_ui(f.v, 9, MPFR_RNDN);
+    mpfr_ui_div(f.v, 1, f.v, MPFR_RNDU);
+    mpfr_add(t.v, t.v, f.v, MPFR_RNDU);
+    EXPECT_LE(mpfr_cmp_d(t.v, K::kHi[9]), 0);
+    // ρ exceeds ln2·(1 + 2⁻¹² + 5·10⁻⁵), the most r can be.
+    Big ln2, top;
+    mpfr_const_log2(ln2.v, MPFR_RNDU);
+    mpfr_mul_d(top.v, ln2.v, 1 + std::ldexp(1.0, -12) + 5e-5, MPFR_RNDU);
+    EXPECT_LT(mpfr_cmp(top.v, rho.v), 0);
+    // ln2 = C1 + C2: C1 below ln2 with at most 15 significant bits (k·C1 exact for |k| ≤ 2⁹),
+    // C2's error times 127 below the slack.
+    Big c2, err;
+    mpfr_const_log2(ln2.v, MPFR_RNDN);
+    EXPECT_GT(mpfr_cmp_d(ln2.v, K::kC1), 0);
+    const double scaled = std::ldexp(static_cast<double>(K::kC1), 15);
+    EXPECT_EQ(scaled, std::floor(scaled));
+    mpfr_sub_d(c2.v, ln2.v, K::kC1, MPFR_RNDN);
+    mpfr_sub_d(err.v, c2.v, K::kC2, MPFR_RNDN);
+    mpfr_abs(err.v, err.v, MPFR_RNDN);
+    mpfr_mul_ui(err.v, err.v, 127, MPFR_RNDU);
+    EXPECT_LT(mpfr_cmp_d(err.v, K::kSlack), 0);
+}
+
+/// Empty when the binary32 kernel's bounds at x enclose exp(x) (MPFR at 256 bits) and lie within
+/// 2⁻¹⁸ of it, relatively; otherwise what failed.
+std::string check_f32(float x) {
+    float b[2];
+    {
+        RoundingScope up;
+        detail::exp_f32_kernel_bounds(x, x, b);
+    }
+    const MpfrInterval exact = exp(MpfrInterval(static_cast<double>(x)));
+    std::ostringstream out;
+    out.precision(10);
+    out << "x = " << x << ": [" << b[0] << ", " << b[1] << "] against " << testing::describe(exact);
+    if (!testing::encloses(b[0], b[1], exact)) return out.str() + ": not enclosed";
+    const double tol = 0x1p-18 * exact.upper();
+    if (exact.lower() - b[0] > tol || b[1] - exact.upper() > tol) {
+        return out.str() + ": wider than 2^-18";
+    }
+    if (!std::isnormal(b[0]) || !std::isnormal(b[1])) return out.str() + ": not normal";
+    return "";
+}
+
+TEST(ExpKernelF32, BoundsAtChosenPoints) {
+    std::vector<float> xs = {0.0f, -0.0f,  1e-30f, -1e-30f, 1e-45f, 0.5f,  1.0f,  -1.0f,
+                             2.0f, -87.0f, 88.0f,  87.5f,   -86.9f, 10.0f, -10.0f};
+    // Around multiples of ln2 and of ln2/2 (where k changes), a few ulps either side.
+    for (int k = -125; k <= 126; k += 7) {
+        for (double m : {k * 0.6931471805599453, (k + 0.5) * 0.6931471805599453}) {
+            float x = static_cast<float>(m);
+            for (int s = 0; s < 4; ++s) x = std::nextafter(x, -INFINITY);
+            for (int s = 0; s < 8; ++s, x = std::nextafter(x, INFINITY)) {
+                if (detail::exp_f32_kernel_applies(x)) xs.push_back(x);
+            }
+        }
+    }
+    for (float x : xs) EXPECT_EQ(check_f32(x), "");
+    EXPECT_FALSE(detail::exp_f32_kernel_applies(std::nextafter(-87.0f, -INFINITY)));
+    EXPECT_FALSE(detail::exp_f32_kernel_applies(std::nextafter(88.0f, INFINITY)));
+    EXPECT_FALSE(detail::exp_f32_kernel_applies(std::nanf("")));
+}
+
+RC_GTEST_PROP(ExpKernelF32, EnclosesExpAtRandomPoints, ()) {
+    // Every binary32 number of the kernel's range is as likely as its bits are: a random bit
+    // pattern below 88's, either sign.
+    const auto b = *rc::gen::inRange<std::uint32_t>(0, std::bit_cast<std::uint32_t>(88.0f) + 1);
+    const float x = std::bit_cast<float>(b) * (*rc::gen::arbitrary<bool>() ? 1.0f : -1.0f);
+    RC_PRE(detail::exp_f32_kernel_applies(x));
+    RC_ASSERT(check_f32(x) == "");
+}
+
+TEST(LogKernelF32, Constants) {
+    using K = detail::LogKernelF32;
+    Big ln2, q, big;
+    mpfr_const_log2(ln2.v, MPFR_RNDN);
+    EXPECT_LT(mpfr_cmp_d(ln2.v, K::kLn2Hi), 0);
+    EXPECT_GT(mpfr_cmp_d(ln2.v, K::kLn2Lo), 0);
+    // kSqrt2 < √2, and the largest v the split leaves, (1 − kSqrt2/2)/(1 + kSqrt2/2), is ≤ 0.1716.
+    mpfr_sqrt_ui(q.v, 2, MPFR_RNDN);
+    EXPECT_GT(mpfr_cmp_d(q.v, K::kSqrt2), 0);
+    const double half = 0.5 * K::kSqrt2;  // exact
+    mpfr_set_d(q.v, 1 - half, MPFR_RNDU);
+    mpfr_set_d(big.v, 1 + half, MPFR_RNDD);
+    mpfr_div(q.v, q.v, big.v, MPFR_RNDU);
+    EXPECT_LE(mpfr_cmp_d(q.v, 0.1716), 0);
+    EXPECT_LE((K::kSqrt2 - 1) / (K::kSqrt2 + 1), 0.1716);
+    for (unsigned i = 0; i < 6; ++i) {
+        Big lo, hi;
+        mpfr_set_ui(lo.v, 1, MPFR_RNDN);
+        mpfr_div_ui(lo.v, lo.v, 2 * i + 1, MPFR_RNDD);
+        mpfr_set_ui(hi.v, 1, MPFR_RNDN);
+        mpfr_div_ui(hi.v, hi.v, 2 * i + 1, MPFR_RNDU);
+        EXPECT_GE(mpfr_cmp_d(lo.v, K::kLo[i]), 0) << i;
+        EXPECT_LE(mpfr_cmp_d(hi.v, K::kHi[i]), 0) << i;
+    }
+    // The last upper bound holds the remainder: 1/11 + w/(13(1 − w)), w = 0.1716².
+    Big w, t, one;
+    mpfr_set_str(w.v, "0.1716", 10, MPFR_RNDU);
+    mpfr_sqr(w.v, w.v, MPFR_RNDU);
+    mpfr_ui_sub(one.v, 1, w.v, MPFR_RNDD);
+    mpfr_mul_ui(one.v, one.v, 13, MPFR_RNDD);
+    mpfr_div(t.v, w.v, one.v, MPFR_RNDU);
+    mpfr_set_ui(q.v, 1, MPFR_RNDN);
+    mpfr_div_ui(q.v, q.v, 11, MPFR_RNDU);
+    mpfr_add(t.v, t.v, q.v, MPFR_RNDU);
+    EXPECT_LE(mpfr_cmp_d(t.v, K::kHi[5]), 0);
+}
+
+/// Empty when the binary32 log kernel's bounds at x enclose log(x) (MPFR at 256 bits) and lie
+/// within 2⁻¹⁸ of it (relatively, or absolutely where |log x| < 1); otherwise what failed.
+std::string check_log_f32(float x) {
+    float b[2];
+    {
+        RoundingScope up;
+        detail::log_f32_kernel_bounds(x, x, b);
+    }
+    const MpfrInterval exact = log(MpfrInterval(static_cast<double>(x)));
+    std::ostringstream out;
+    out.precision(10);
+    out << "x = " << x << ": [" << b[0] << ", " << b[1] << "] against " << testing::describe(exact);
+    if (!testing::encloses(b[0], b[1], exact)) return out.str() + ": not enclosed";
+    const double tol = 0x1p-18 * std::max(1.0, std::fabs(exact.upper()));
+    if (exact.lower() - b[0] > tol || b[1] - exact.upper() > tol) {
+        return out.str() + ": wider than 2^-18";
+    }
+    return "";
+}
+
+TEST(LogKernelF32, BoundsAtChosenPoints) {
+    std::vector<float> xs = {1.0f,           2.0f,           0.5f,           3.0f,
+                             1e-30f,         1e30f,          0x1p-126f,      0x1.fffffep+127f,
+                             0x1.6a09e6p+0f, 0x1.6a09e8p+0f, 0x1.6a09e6p-1f, 0.70710677f};
+    // Around 1 and around the split, a few ulps either side, at several exponents.
+    for (int e = -126; e <= 127; e += 11) {
+        for (float m : {1.0f, 0x1.6a09e6p+0f}) {
+            float x = std::ldexp(m, e);
+            for (int s = 0; s < 4; ++s) x = std::nextafter(x, 0.0f);
+            for (int s = 0; s < 8; ++s, x = std::nextafter(x, INFINITY)) {
+                if (detail::log_f32_kernel_applies(x)) xs.push_back(x);
+            }
+        }
+    }
+    for (float x : xs) EXPECT_EQ(check_log_f32(x), "");
+    EXPECT_FALSE(detail::log_f32_kernel_applies(0x1p-127f));  // subnormal
+    EXPECT_FALSE(detail::log_f32_kernel_applies(0.0f));
+    EXPECT_FALSE(detail::log_f32_kernel_applies(-1.0f));
+    EXPECT_FALSE(detail::log_f32_kernel_applies(INFINITY));
+}
+
+RC_GTEST_PROP(LogKernelF32, EnclosesLogAtRandomPoints, ()) {
+    const auto b = *rc::gen::inRange<std::uint32_t>(std::bit_cast<std::uint32_t>(0x1p-126f),
+                                                    std::bit_cast<std::uint32_t>(INFINITY));
+    const float x = std::bit_cast<float>(b);
+    RC_PRE(detail::log_f32_kernel_applies(x));
+    RC_ASSERT(check_log_f32(x) == "");
 }
 
 TEST(LogKernel, Constants) {
