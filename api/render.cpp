@@ -34,12 +34,7 @@ tracers::Camera auto_frame(const Scene& scene, const tracers::Box3& bounds, doub
 
 bool surface_reaches_bounds(const Scene& scene, const tracers::Box3& bounds) {
     NearestScope env;
-    for (const tracers::Box3& c : tracers::surface_cells(scene.tape(), bounds)) {
-        for (int a = 0; a < 3; ++a) {
-            if (c[a][0] <= bounds[a][0] || c[a][1] >= bounds[a][1]) return true;
-        }
-    }
-    return false;
+    return tracers::surface_cells_touch_bounds(scene.tape(), bounds);
 }
 
 tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {

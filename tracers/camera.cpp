@@ -72,10 +72,17 @@ bool clip_ray(Ray& ray, const Box3& box) {
     return true;
 }
 
-std::vector<Box3> surface_cells(const expr::Tape& tape, const Box3& bounds, int levels) {
-    // Depth first, each cell evaluated with the list pruned to its parent (equal to f there), so
-    // that a CSG tree of thousands of primitives is not evaluated whole on every small cell; one
-    // list and one register file per level.
+namespace {
+
+/// The subdivision of surface_cells, depth first: `leaf(cell)` for each cell of the last level
+/// where f may vanish, only below cells for which `descend(box)` holds; stops at the first leaf
+/// that returns true (and returns true then).
+template <class Descend, class Leaf>
+bool visit_surface_cells(const expr::Tape& tape, const Box3& bounds, int levels, Descend descend,
+                         Leaf leaf) {
+    // Each cell evaluated with the list pruned to its parent (equal to f there), so that a CSG
+    // tree of thousands of primitives is not evaluated whole on every small cell; one list and one
+    // register file per level.
     using Ssa = std::vector<expr::Instr>;
     using Box = std::array<UpInterval, 3>;
     levels = std::clamp(levels, 0, 6);  // at most 8^6 cells
@@ -86,19 +93,18 @@ std::vector<Box3> surface_cells(const expr::Tape& tape, const Box3& bounds, int 
     std::vector<Level> level(static_cast<std::size_t>(levels) + 1);
     expr::PruneWorkspace ws;
     ws.absolute_values = true;
-    std::vector<Box3> out;
     RoundingScope up;  // UpInterval arithmetic below; midpoints are only split points
-    const auto visit = [&](const auto& self, const Box& box, const Ssa& list, int depth) -> void {
+    const auto visit = [&](const auto& self, const Box& box, const Ssa& list, int depth) -> bool {
+        if (!descend(box)) return false;
         Level& l = level[static_cast<std::size_t>(depth)];
         if (l.values.size() < list.size()) l.values.resize(list.size());
         expr::detail::run<UpInterval>(list, box, l.values.data());
         const UpInterval v = l.values[list.back().out];
-        if (v.defined && !v.is_empty() && !possibly_zero(v)) return;  // f cannot vanish here
+        if (v.defined && !v.is_empty() && !possibly_zero(v)) return false;  // f cannot vanish
         if (depth == levels) {
-            out.push_back({{{box[0].lower(), box[0].upper()},
-                            {box[1].lower(), box[1].upper()},
-                            {box[2].lower(), box[2].upper()}}});
-            return;
+            return leaf(Box3{{{box[0].lower(), box[0].upper()},
+                              {box[1].lower(), box[1].upper()},
+                              {box[2].lower(), box[2].upper()}}});
         }
         const Ssa* sub = &list;
         if (expr::prune_ssa(list, l.values.data(), ws, l.list)) sub = &l.list;
@@ -111,13 +117,36 @@ std::vector<Box3> surface_cells(const expr::Tape& tape, const Box3& bounds, int 
                 s[a] = (k >> a) & 1 ? UpInterval(m[a], box[a].upper())
                                     : UpInterval(box[a].lower(), m[a]);
             }
-            self(self, s, *sub, depth + 1);
+            if (self(self, s, *sub, depth + 1)) return true;
         }
+        return false;
     };
     const Box root{UpInterval(bounds[0][0], bounds[0][1]), UpInterval(bounds[1][0], bounds[1][1]),
                    UpInterval(bounds[2][0], bounds[2][1])};
-    visit(visit, root, tape.ssa(), 0);
+    return visit(visit, root, tape.ssa(), 0);
+}
+
+}  // namespace
+
+std::vector<Box3> surface_cells(const expr::Tape& tape, const Box3& bounds, int levels) {
+    std::vector<Box3> out;
+    visit_surface_cells(
+        tape, bounds, levels, [](const auto&) { return true; },
+        [&](const Box3& cell) {
+            out.push_back(cell);
+            return false;
+        });
     return out;
+}
+
+bool surface_cells_touch_bounds(const expr::Tape& tape, const Box3& bounds, int levels) {
+    const auto touches = [&](const auto& box) {
+        for (int a = 0; a < 3; ++a) {
+            if (box[a].lower() <= bounds[a][0] || box[a].upper() >= bounds[a][1]) return true;
+        }
+        return false;
+    };
+    return visit_surface_cells(tape, bounds, levels, touches, [](const Box3&) { return true; });
 }
 
 std::optional<Box3> hull(const std::vector<Box3>& boxes) {

@@ -64,6 +64,12 @@ std::optional<Box3> surface_extent(const expr::Tape& tape, const Box3& bounds, i
 /// absent): every point of the bounds where f may vanish lies in one of them.
 std::vector<Box3> surface_cells(const expr::Tape& tape, const Box3& bounds, int levels = 5);
 
+/// Whether a cell of surface_cells(tape, bounds, levels) touches a face of `bounds` (a side of
+/// the cell on or past it): the same subdivision, descending only into cells that touch a face
+/// (no other cell has such descendants) and stopping at the first. The same answer as testing
+/// every cell surface_cells gives, in a fraction of its evaluations.
+bool surface_cells_touch_bounds(const expr::Tape& tape, const Box3& bounds, int levels = 5);
+
 /// The smallest box containing all `boxes`; nullopt when there are none.
 std::optional<Box3> hull(const std::vector<Box3>& boxes);
 

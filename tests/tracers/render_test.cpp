@@ -215,6 +215,37 @@ TEST(Camera, SurfaceExtentEnclosesTheSurface) {
     EXPECT_EQ(make_method("certified", sphere(), {})(r).status, Status::Hit);
 }
 
+/// Whether some cell of surface_cells touches a face of the bounds, cell by cell: what
+/// surface_cells_touch_bounds must answer.
+bool some_cell_touches(const expr::Tape& tape, const Box3& bounds) {
+    for (const Box3& c : surface_cells(tape, bounds)) {
+        for (int a = 0; a < 3; ++a) {
+            if (c[a][0] <= bounds[a][0] || c[a][1] >= bounds[a][1]) return true;
+        }
+    }
+    return false;
+}
+
+TEST(Camera, SurfaceTouchesTheBoundsAsItsCellsDo) {
+    // The unit sphere inside [−2, 2]³ does not reach the faces; cut by them in [−0.9, 0.9]³ and
+    // [0.5, 3]³ (a face at x = 0.5 crosses it) it does; a plane z = 1.5 reaches the sides of
+    // [−2, 2]³ but not a box below it; an empty set reaches nothing.
+    const expr::Tape plane(expr::parse_expr("z - 1.5"));
+    const expr::Tape none(expr::parse_expr("x^2 + y^2 + z^2 + 1"));
+    const Box3 wide{{{-2, 2}, {-2, 2}, {-2, 2}}}, tight{{{-0.9, 0.9}, {-0.9, 0.9}, {-0.9, 0.9}}},
+        corner{{{0.5, 3}, {0.5, 3}, {-0.25, 0.25}}}, low{{{-2, 2}, {-2, 2}, {-2, 1}}};
+    const struct {
+        const expr::Tape& tape;
+        Box3 bounds;
+        bool touches;
+    } cases[] = {{sphere(), wide, false}, {sphere(), tight, true}, {sphere(), corner, true},
+                 {plane, wide, true},     {plane, low, false},     {none, wide, false}};
+    for (const auto& c : cases) {
+        EXPECT_EQ(surface_cells_touch_bounds(c.tape, c.bounds), c.touches);
+        EXPECT_EQ(some_cell_touches(c.tape, c.bounds), c.touches);
+    }
+}
+
 TEST(Png, RoundTrip) {
     const fs::path dir =
         fs::temp_directory_path() / ("certray_png_test_" + std::to_string(::getpid()));
