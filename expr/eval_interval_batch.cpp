@@ -37,6 +37,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <limits>
 #include <type_traits>
 
@@ -625,29 +626,31 @@ template <class V>
                                                      int n) {
     using R = typename V::R;
     using K = certray::detail::ExpKernelF32;
+    using KL = certray::detail::LogKernelF32;
     constexpr int W = V::kWidth;
     constexpr unsigned kAll = (1u << W) - 1;
-    R lo_coef[10], hi_coef[10];
-    for (int i = 0; i < 10; ++i) {
-        lo_coef[i] = V::set1(K::kLo[i]);
-        hi_coef[i] = V::set1(K::kHi[i]);
+    R lo_coef[std::size(K::kLo)], hi_coef[std::size(K::kHi)];
+    if (is_exp) {
+        for (std::size_t i = 0; i < std::size(K::kLo); ++i) {
+            lo_coef[i] = V::set1(K::kLo[i]);
+            hi_coef[i] = V::set1(K::kHi[i]);
+        }
     }
+    const R low = V::set1(is_exp ? K::kLower : KL::kMinNormal);
+    const R high = V::set1(is_exp ? K::kUpper : KL::kMax);
     const std::uint64_t def = a.defined[0];  // read before o is written
     std::uint64_t slow = 0, slow_def = 0;
     for (int k = 0; k < n; k += W) {
         const R l = V::load(a.lo + k), u = V::load(a.hi + k);
         const unsigned live = n - k >= W ? kAll : (1u << (n - k)) - 1;
-        using KL = certray::detail::LogKernelF32;
-        const R low = V::set1(is_exp ? K::kLower : KL::kMinNormal);
-        const R high = V::set1(is_exp ? K::kUpper : KL::kMax);
         const unsigned ok = V::bits(V::both(V::le(l, u), V::both(V::le(low, l), V::le(u, high))));
         R lo, hi;
         if (is_exp) {
-            lo = V::neg(certray::detail::exp_bound_f32<V>(l, V::set1(-1.0), lo_coef));
-            hi = certray::detail::exp_bound_f32<V>(u, V::set1(1.0), hi_coef);
+            lo = V::neg(certray::detail::exp_bound<V, K>(l, V::set1(-1.0), lo_coef));
+            hi = certray::detail::exp_bound<V, K>(u, V::set1(1.0), hi_coef);
         } else {
-            lo = V::neg(certray::detail::log_bound_f32<V>(l, V::set1(-1.0)));
-            hi = certray::detail::log_bound_f32<V>(u, V::set1(1.0));
+            lo = V::neg(certray::detail::log_bound<V, KL>(l, V::set1(-1.0)));
+            hi = certray::detail::log_bound<V, KL>(u, V::set1(1.0));
         }
         if (const unsigned s = ~ok & live; s != 0) [[unlikely]] {
             alignas(64) float bl[W], bh[W];

@@ -81,6 +81,45 @@ inline float upper_f32(double x) {
     return static_cast<double>(f) < x ? next_f32(f, true) : f;
 }
 
+/// Sets lane i's bounds to [lo, hi] (not its decoration): exactly in IntervalLanes, rounded
+/// outward to binary32 in IntervalLanesF (lower_f32, upper_f32).
+inline void set_bounds(IntervalLanes& x, int i, double lo, double hi) {
+    x.lo[i] = lo;
+    x.hi[i] = hi;
+}
+inline void set_bounds(IntervalLanesF& x, int i, double lo, double hi) {
+    x.lo[i] = lower_f32(lo);
+    x.hi[i] = upper_f32(hi);
+}
+
+/// Whether the binary32 walk (run_interval_batch over IntervalLanesF) takes `op` with a binary32
+/// kernel; it takes the others in double, widened and rounded outward, which costs their double
+/// step and two conversions.
+constexpr bool binary32_kernel(Op op) noexcept {
+    switch (op) {
+        case Op::Const:
+        case Op::VarX:
+        case Op::VarY:
+        case Op::VarZ:
+        case Op::Neg:
+        case Op::Abs:
+        case Op::Square:
+        case Op::Sqrt:
+        case Op::Add:
+        case Op::Sub:
+        case Op::Mul:
+        case Op::Div:
+        case Op::Recip:
+        case Op::Min:
+        case Op::Max:
+        case Op::Exp:
+        case Op::Log:
+            return true;
+        default:
+            return false;
+    }
+}
+
 /// Lane i as an UpInterval: its bounds as doubles (exactly) and its decoration.
 inline UpInterval lane(const IntervalLanesF& x, int i) {
     const bool def = (x.defined[i / 64] >> (i % 64)) & 1u;
@@ -90,8 +129,7 @@ inline UpInterval lane(const IntervalLanesF& x, int i) {
 /// Stores v in lane i rounded outward to binary32 (lower_f32 and upper_f32 of its bounds: exact
 /// where they are binary32 numbers; an empty v stays empty), with its decoration.
 inline void set_lane(IntervalLanesF& x, int i, const UpInterval& v) {
-    x.lo[i] = lower_f32(v.lower());
-    x.hi[i] = upper_f32(v.upper());
+    set_bounds(x, i, v.lower(), v.upper());
     const std::uint64_t bit = std::uint64_t{1} << (i % 64);
     x.defined[i / 64] = v.defined ? x.defined[i / 64] | bit : x.defined[i / 64] & ~bit;
 }

@@ -25,7 +25,9 @@
 #pragma once
 
 #include <bit>
+#include <cstddef>
 #include <cstdint>
+#include <iterator>
 
 #if defined(__GNUC__) && defined(__x86_64__)
 #include <emmintrin.h>
@@ -134,23 +136,28 @@ struct LogKernel {
 // the width's instruction set (the walk's copies), so no call passes an AVX vector by value.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
-template <class V>
+///
+/// K: the constants, ExpKernel (binary64, 17 coefficients) or ExpKernelF32
+/// (interval/exp_log_kernel_f32.h: binary32 lanes, 10 coefficients); the same argument with
+/// K's reduction constants and K's number of terms.
+template <class V, class K = ExpKernel>
 [[gnu::always_inline]] inline typename V::R exp_bound(typename V::R x, typename V::R s,
                                                       const typename V::R* coef) {
     using R = typename V::R;
-    using K = ExpKernel;
+    constexpr std::size_t kTerms = std::size(K::kLo);
+    static_assert(kTerms == 17 || kTerms == 10, "Estrin's scheme below is written for these");
     const R y = V::mul(x, V::set1(K::kInvLn2));
     const R z = V::sub(y, V::set1(K::kShift));
     const R kd = V::sub(V::add(z, V::set1(K::kMagic)), V::set1(K::kMagic));  // ⌈z⌉ (upward mode)
     // Products by s = ±1 are sign flips: xor with s's sign bit (sm).
     const R sm = V::sign_of(s);
-    const R nsm = V::flip(sm, V::set1(-0.0));  // −s's
+    const R nsm = V::flip(sm, V::set1(-0.0f));  // −s's
     // s·r rounded up: s·(x − k·C1) (k·C1 exact) − s·k·C2 + slack.
     const R kc1 = V::mul(kd, V::set1(K::kC1));
     const R d = V::sub(V::flip(x, sm), V::flip(kc1, sm));
     const R e = V::mul(V::flip(kd, nsm), V::set1(K::kC2));
     const R r = V::add(d, V::add(e, V::set1(K::kSlack)));  // r′ = s·(bound of r), bound > 0
-    // Estrin: pairs c(2i) + c(2i+1)·r, then the powers r², r⁴, r⁸, r¹⁶ join them.
+    // Estrin: pairs c(2i) + c(2i+1)·r, then the powers r², r⁴, r⁸ (and r¹⁶) join them.
     const auto pair = [&](int i) {
         return V::add(V::flip(coef[i], sm), V::mul(coef[i + 1], r));  // s·c(i) + c(i+1)·r′
     };
@@ -158,15 +165,20 @@ template <class V>
     const R r2 = times(r, r);
     const R r4 = times(r2, r2);
     const R r8 = times(r4, r4);
-    const R r16 = times(r8, r8);
     const R q0 = V::add(pair(0), times(pair(2), r2));
     const R q1 = V::add(pair(4), times(pair(6), r2));
-    const R q2 = V::add(pair(8), times(pair(10), r2));
-    const R q3 = V::add(pair(12), times(pair(14), r2));
     const R o0 = V::add(q0, times(q1, r4));
-    const R o1 = V::add(q2, times(q3, r4));
-    const R h = V::add(o0, times(o1, r8));
-    const R p = V::add(h, V::mul(coef[16], r16));  // + c(16)·r¹⁶′
+    R p;
+    if constexpr (kTerms == 17) {
+        const R r16 = times(r8, r8);
+        const R q2 = V::add(pair(8), times(pair(10), r2));
+        const R q3 = V::add(pair(12), times(pair(14), r2));
+        const R o1 = V::add(q2, times(q3, r4));
+        const R h = V::add(o0, times(o1, r8));
+        p = V::add(h, V::mul(coef[16], r16));  // + c(16)·r¹⁶′
+    } else {
+        p = V::add(o0, times(pair(8), r8));  // + (c(8) + c(9)·r)·r⁸′
+    }
     return V::mul(p, V::pow2(kd));
 }
 
@@ -177,10 +189,14 @@ template <class V>
 /// v = |m − 1|/(m + 1) ≤ 0.1716 and g(v) = 2v·Σ v²ⁱ/(2i + 1), increasing in v and in its positive
 /// coefficients; s·(e·ln2) and the bound of σ·g of the same side, which is g's bound of side
 /// t = s·σ, each rounded up, then summed.
-template <class V>
+///
+/// K: LogKernel (binary64, 10 coefficients) or LogKernelF32 (interval/exp_log_kernel_f32.h:
+/// binary32 lanes, 6 coefficients, the split at K::kSqrt2).
+template <class V, class K = LogKernel>
 [[gnu::always_inline]] inline typename V::R log_bound(typename V::R x, typename V::R s) {
     using R = typename V::R;
-    using K = LogKernel;
+    constexpr std::size_t kTerms = std::size(K::kLo);
+    static_assert(kTerms == 10 || kTerms == 6, "Estrin's scheme below is written for these");
     R e, m;
     V::log_split(x, e, m);
     // Products by ±1 are sign flips: xor with the sign bits of s (sm), of t = s·σ (tm) and −t.
@@ -188,12 +204,12 @@ template <class V>
     // s·(e·ln2) rounded up: the larger of the two products with ln2's bounds.
     const R se = V::flip(e, sm);
     const R el = V::max(V::mul(se, V::set1(K::kLn2Lo)), V::mul(se, V::set1(K::kLn2Hi)));
-    const R dm = V::sub(m, V::set1(1.0));  // exact; σ = its sign (+ at 0)
+    const R dm = V::sub(m, V::set1(1.0f));  // exact; σ = its sign (+ at 0)
     const R dsm = V::sign_of(dm);
     const R tm = V::flip(sm, dsm);
-    const R ntm = V::flip(tm, V::set1(-0.0));
+    const R ntm = V::flip(tm, V::set1(-0.0f));
     // t·v: v = |m − 1|/(m + 1) with the denominator rounded against the side t.
-    const R den = V::flip(V::add(V::flip(m, ntm), V::flip(V::set1(1.0), ntm)), ntm);
+    const R den = V::flip(V::add(V::flip(m, ntm), V::flip(V::set1(1.0f), ntm)), ntm);
     const R v = V::div(V::flip(V::flip(dm, dsm), tm), den);
     // The coefficients of side t as t·c: max(t·lo, t·hi). (A blend by tm's sign bit, as the trig
     // kernel's side_coef, measured 8% slower here on AVX2.)
@@ -205,11 +221,16 @@ template <class V>
     const auto pair2 = [&](int i) { return V::add(coef(i), times(coef(i + 1), w)); };
     const R w2 = times(w, w);
     const R w4 = times(w2, w2);
-    const R w8 = times(w4, w4);
     const R q0 = V::add(pair2(0), times(pair2(2), w2));
-    const R q1 = V::add(pair2(4), times(pair2(6), w2));
-    const R q = V::add(V::add(q0, times(q1, w4)), times(pair2(8), w8));
-    const R g = V::mul(V::set1(2.0), times(v, q));
+    R q;
+    if constexpr (kTerms == 10) {
+        const R w8 = times(w4, w4);
+        const R q1 = V::add(pair2(4), times(pair2(6), w2));
+        q = V::add(V::add(q0, times(q1, w4)), times(pair2(8), w8));
+    } else {
+        q = V::add(q0, times(pair2(4), w4));
+    }
+    const R g = V::mul(V::set1(2.0f), times(v, q));
     return V::add(el, g);
 }
 

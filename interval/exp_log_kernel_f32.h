@@ -1,13 +1,13 @@
 // interval/exp_log_kernel_f32.h — outward bounds of exp(x) and log(x) in binary32, in upward
-// rounding mode,
-// without libm and without a mode switch, for the binary32 lane walk
-// (expr/eval_interval_batch.h), written once for any vector of floats.
+// rounding mode, without libm and without a mode switch, for the binary32 lane walk
+// (expr/eval_interval_batch.h): the constants of interval/exp_log_kernel.h's exp_bound and
+// log_bound for vectors of floats, with fewer terms.
 //
 // Contract: inside a RoundingScope (upward mode), for binary32 x with exp_f32_kernel_applies(x)
-// (−87 ≤ x ≤ 88) and s = −1 or +1 per lane, exp_bound_f32<V>(x, s, coef) returns s·B where B is a
-// lower bound of exp(x) for s = −1 and an upper bound for s = +1, both normal binary32 numbers
-// within 2⁻¹⁸ of exp(x), relatively. coef[i] holds per lane the bound of 1/i! of the same side:
-// ExpKernelF32::kLo[i] where s = −1, kHi[i] where s = +1.
+// (−87 ≤ x ≤ 88) and s = −1 or +1 per lane, exp_bound<V, ExpKernelF32>(x, s, coef) returns s·B
+// where B is a lower bound of exp(x) for s = −1 and an upper bound for s = +1, both normal
+// binary32 numbers within 2⁻¹⁸ of exp(x), relatively. coef[i] holds per lane the bound of 1/i! of
+// the same side: ExpKernelF32::kLo[i] where s = −1, kHi[i] where s = +1.
 //
 // How: interval/exp_log_kernel.h's argument (docs/theory/exp_log_kernel.md), in binary32:
 // - k = ⌈x/ln2 − 1 − 2⁻¹²⌉, the quotient and the difference rounded up (their errors are at most
@@ -23,9 +23,9 @@
 //   bounds it gives the bounds; the ten roundings of the evaluation keep it within 2⁻¹⁸.
 // - A lower bound is carried negated (−lo), so that both are operations rounded up.
 //
-// log_bound_f32<V>(x, s), for x with log_f32_kernel_applies(x) (normal, positive, finite),
-// returns s·B likewise, B within 2⁻¹⁸ of log(x) absolutely where |log x| < 1 and relatively
-// elsewhere, by exp_log_kernel.h's log argument in binary32: x = m·2^e with m in
+// log_bound<V, LogKernelF32>(x, s), for x with log_f32_kernel_applies(x) (normal, positive,
+// finite), returns s·B likewise, B within 2⁻¹⁸ of log(x) absolutely where |log x| < 1 and
+// relatively elsewhere, by exp_log_kernel.h's log argument in binary32: x = m·2^e with m in
 // [0.7071067, 1.4142134) (the split at the binary32 number below √2), log x = e·ln2 + σ·g(v),
 // v = |m − 1|/(m + 1) ≤ 0.1716 and g(v) = 2v·Σ v²ⁱ/(2i + 1), six terms, the remainder
 // Σ_{i ≥ 6} w^i/(2i + 1) ≤ w⁵·w/(13(1 − w)) (w = v² ≤ 0.1716²) added to the last coefficient's
@@ -35,13 +35,11 @@
 #include <bit>
 #include <cstdint>
 
-#if defined(__GNUC__) && defined(__x86_64__)
-#include <emmintrin.h>
-#endif
+#include "interval/exp_log_kernel.h"
 
 namespace certray::detail {
 
-/// Whether exp_bound_f32 applies to x (NaN: no).
+/// Whether exp_bound<V, ExpKernelF32> applies to x (NaN: no).
 inline bool exp_f32_kernel_applies(float x) { return x >= -87.0f && x <= 88.0f; }
 
 /// The binary32 kernel's constants (tests/interval/exp_log_kernel_test.cpp checks them against
@@ -73,7 +71,7 @@ struct ExpKernelF32 {
                                       0x1.a531c8p-19f};
 };
 
-/// Whether log_bound_f32 applies to x (NaN: no).
+/// Whether log_bound<V, LogKernelF32> applies to x (NaN: no).
 inline bool log_f32_kernel_applies(float x) { return x >= 0x1p-126f && x <= 0x1.fffffep+127f; }
 
 /// The binary32 log kernel's constants (checked against MPFR as ExpKernelF32's).
@@ -90,77 +88,9 @@ struct LogKernelF32 {
                                      0x1.24924ap-3f, 0x1.c71c72p-4f, 0x1.7dec4ep-4f};
 };
 
-// The kernels take and return vectors of any width; it is always inlined into code built for
-// the width's instruction set, so no call passes an AVX vector by value.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
-/// s·B for each lane (see the file contract). V provides R (binary32 lanes), set1, add, sub, mul
-/// (IEEE, in the current mode), sign_of(a) (a's sign bit alone), flip(a, m) (a's bits xor m's)
-/// and pow2(kd) = 2^kd for integral kd in [−126, 127] (exact).
-template <class V>
-[[gnu::always_inline]] inline typename V::R exp_bound_f32(typename V::R x, typename V::R s,
-                                                          const typename V::R* coef) {
-    using R = typename V::R;
-    using K = ExpKernelF32;
-    const R y = V::mul(x, V::set1(K::kInvLn2));
-    const R z = V::sub(y, V::set1(K::kShift));
-    const R kd = V::sub(V::add(z, V::set1(K::kMagic)), V::set1(K::kMagic));  // ⌈z⌉ (upward mode)
-    const R sm = V::sign_of(s);
-    const R nsm = V::flip(sm, V::set1(-0.0f));
-    // s·r rounded up: s·(x − k·C1) (k·C1 exact) − s·k·C2 + slack.
-    const R kc1 = V::mul(kd, V::set1(K::kC1));
-    const R d = V::sub(V::flip(x, sm), V::flip(kc1, sm));
-    const R e = V::mul(V::flip(kd, nsm), V::set1(K::kC2));
-    const R r = V::add(d, V::add(e, V::set1(K::kSlack)));
-    // Estrin: pairs c(2i) + c(2i+1)·r, joined by r², r⁴, r⁸.
-    const auto pair = [&](int i) { return V::add(V::flip(coef[i], sm), V::mul(coef[i + 1], r)); };
-    const auto times = [&](R a, R b) { return V::mul(a, V::flip(b, sm)); };  // (a·b)′
-    const R r2 = times(r, r);
-    const R r4 = times(r2, r2);
-    const R r8 = times(r4, r4);
-    const R q0 = V::add(pair(0), times(pair(2), r2));
-    const R q1 = V::add(pair(4), times(pair(6), r2));
-    const R o0 = V::add(q0, times(q1, r4));
-    const R p = V::add(o0, times(pair(8), r8));
-    return V::mul(p, V::pow2(kd));
-}
-/// s·B for log (see the file contract), where log_f32_kernel_applies(x) in every lane. V provides
-/// what exp_bound_f32 needs and div, max and log_split(x, e, m): x = m·2^e with e integral and m in
-/// [kSqrt2/2, kSqrt2), both exact.
-template <class V>
-[[gnu::always_inline]] inline typename V::R log_bound_f32(typename V::R x, typename V::R s) {
-    using R = typename V::R;
-    using K = LogKernelF32;
-    R e, m;
-    V::log_split(x, e, m);
-    const R sm = V::sign_of(s);
-    // s·(e·ln2) rounded up: the larger of the two products with ln2's bounds.
-    const R se = V::flip(e, sm);
-    const R el = V::max(V::mul(se, V::set1(K::kLn2Lo)), V::mul(se, V::set1(K::kLn2Hi)));
-    const R dm = V::sub(m, V::set1(1.0f));  // exact; σ = its sign (+ at 0)
-    const R dsm = V::sign_of(dm);
-    const R tm = V::flip(sm, dsm);
-    const R ntm = V::flip(tm, V::set1(-0.0f));
-    // t·v: v = |m − 1|/(m + 1) with the denominator rounded against the side t.
-    const R den = V::flip(V::add(V::flip(m, ntm), V::flip(V::set1(1.0f), ntm)), ntm);
-    const R v = V::div(V::flip(V::flip(dm, dsm), tm), den);
-    const auto coef = [&](int i) {
-        return V::max(V::flip(V::set1(K::kLo[i]), tm), V::flip(V::set1(K::kHi[i]), tm));
-    };
-    const auto times = [&](R a, R b) { return V::mul(a, V::flip(b, tm)); };  // (a·b)′
-    const R w = times(v, v);
-    const auto pair2 = [&](int i) { return V::add(coef(i), times(coef(i + 1), w)); };
-    const R w2 = times(w, w);
-    const R w4 = times(w2, w2);
-    const R q = V::add(V::add(pair2(0), times(pair2(2), w2)), times(pair2(4), w4));
-    const R g = V::mul(V::set1(2.0f), times(v, q));
-    return V::add(el, g);
-}
-
-#pragma GCC diagnostic pop
-
 #if defined(__GNUC__) && defined(__x86_64__)
-/// Four binary32 lanes of SSE (the baseline of x86-64): the operations exp_bound_f32 needs.
+/// Four binary32 lanes of SSE (the baseline of x86-64): the operations exp_bound and log_bound
+/// need.
 struct KernelSse2F {
     using R = __m128;
     static R set1(float c) { return _mm_set1_ps(c); }
@@ -204,7 +134,7 @@ inline void exp_f32_kernel_bounds(float a, float b, float* out) {
         coef[i] = _mm_set_ps(ExpKernelF32::kHi[i], ExpKernelF32::kHi[i], ExpKernelF32::kHi[i],
                              ExpKernelF32::kLo[i]);
     }
-    __m128 r = exp_bound_f32<KernelSse2F>(x, s, coef);
+    __m128 r = exp_bound<KernelSse2F, ExpKernelF32>(x, s, coef);
     asm volatile("" : "+x"(r));
     alignas(16) float v[4];
     _mm_store_ps(v, r);
@@ -217,7 +147,7 @@ inline void exp_f32_kernel_bounds(float a, float b, float* out) {
 inline void log_f32_kernel_bounds(float a, float b, float* out) {
     __m128 x = _mm_set_ps(1.0f, 1.0f, b, a);
     asm volatile("" : "+x"(x));
-    __m128 r = log_bound_f32<KernelSse2F>(x, _mm_set_ps(1.0f, 1.0f, 1.0f, -1.0f));
+    __m128 r = log_bound<KernelSse2F, LogKernelF32>(x, _mm_set_ps(1.0f, 1.0f, 1.0f, -1.0f));
     asm volatile("" : "+x"(r));
     alignas(16) float v[4];
     _mm_store_ps(v, r);

@@ -140,34 +140,13 @@ struct LaneFile {
     std::vector<L> regs;
 };
 
-/// Whether the ops that the binary32 walk takes in double (widened, the double walk's step,
-/// rounded outward: sin, cos and the ops without a vector kernel) are at most a sixth of the
-/// instructions of `list`: where they are many, that costs more than eight lanes save (the
-/// gyroid's quarter of sin and cos: 7% more time; docs/benchmarks.md, session 19).
+/// Whether the ops that the binary32 walk takes in double (expr::binary32_kernel: sin, cos and
+/// the ops without a vector kernel) are at most a sixth of the instructions of `list`: where they
+/// are many, that costs more than eight lanes save (the gyroid's quarter of sin and cos: 7% more
+/// time; docs/benchmarks.md, session 19).
 bool mostly_arithmetic(const Ssa& list) {
     const auto n = std::count_if(list.begin(), list.end(), [](const expr::Instr& in) {
-        switch (in.op) {
-            case expr::Op::Const:
-            case expr::Op::VarX:
-            case expr::Op::VarY:
-            case expr::Op::VarZ:
-            case expr::Op::Neg:
-            case expr::Op::Abs:
-            case expr::Op::Square:
-            case expr::Op::Sqrt:
-            case expr::Op::Add:
-            case expr::Op::Sub:
-            case expr::Op::Mul:
-            case expr::Op::Div:
-            case expr::Op::Recip:
-            case expr::Op::Min:
-            case expr::Op::Max:
-            case expr::Op::Exp:
-            case expr::Op::Log:
-                return false;
-            default:
-                return true;
-        }
+        return !expr::binary32_kernel(in.op);
     });
     return 6 * static_cast<std::size_t>(n) <= list.size();
 }
@@ -329,12 +308,12 @@ class Walker {
                                const std::array<double, 3>* dirs, std::size_t n,
                                std::vector<UpInterval>& values, std::vector<UpInterval>& slopes,
                                const Level* fold);
-    /// The four lanes of mean_value()'s form on a smooth list: g[0..2] the gradient's components
-    /// over the box x, g[3] the derivative along dc; false where the walk proves nothing (f not
-    /// defined and continuous on x, an unbounded component).
-    template <class L>
-    bool tangent_form_lanes(LaneFile<L>& file, const expr::TangentList& tl,
-                            const std::array<UpInterval, 3>& x, const double* dc, UpInterval* g);
+    /// The four lanes of mean_value()'s form on a smooth list, in double (four lanes are half a
+    /// binary32 vector): g[0..2] the gradient's components over the box x, g[3] the derivative
+    /// along dc; false where the walk proves nothing (f not defined and continuous on x, an
+    /// unbounded component).
+    bool tangent_form_lanes(const expr::TangentList& tl, const std::array<UpInterval, 3>& x,
+                            const double* dc, UpInterval* g);
     /// level.folded for the scan in lanes of `sub` over `box`, from level.values: `sub` is the
     /// list the node evaluated into level.values, or level.list, that list pruned by the
     /// node's prune_ssa (prune_ws_ as it left it). The subexpressions narrower than kFoldWidth
@@ -785,9 +764,7 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
         // 4%). Interval seeds O − oc and D − dc would lose the cancellations inside each component
         // (twice as wide on Barth's sextic), so those sums are taken over the components.
         UpInterval g[4];
-        // Four lanes: half a vector of binary32 lanes, so the double walk.
-        const bool formed = tangent_form_lanes(d64_, *tl, x, dc, g);
-        if (!formed) return none;
+        if (!tangent_form_lanes(*tl, x, dc, g)) return none;
         expr::detail::run<UpInterval>(list, c, centre_.data());
         UpInterval m = centre_[list.back().out];
         if (m.is_empty() || !m.defined) return none;
@@ -1086,10 +1063,9 @@ void Walker::settle(unsigned i, unsigned j, const Ray& s, RayResult res, bool sc
     answer(i, j, p, res, list, s.tmin, s.tmax);
 }
 
-template <class L>
-bool Walker::tangent_form_lanes(LaneFile<L>& file, const expr::TangentList& tl,
-                                const std::array<UpInterval, 3>& x, const double* dc,
-                                UpInterval* g) {
+bool Walker::tangent_form_lanes(const expr::TangentList& tl, const std::array<UpInterval, 3>& x,
+                                const double* dc, UpInterval* g) {
+    LaneFile<expr::IntervalLanes>& file = d64_;
     LaneBox boxes[4];
     for (int k = 0; k < 3; ++k) {
         for (int l = 0; l < 4; ++l) {
@@ -1100,7 +1076,7 @@ bool Walker::tangent_form_lanes(LaneFile<L>& file, const expr::TangentList& tl,
     load_lanes(file, boxes, 4);
     if (file.regs.size() < tl.slots) file.regs.resize(tl.slots);
     for (int k = 0; k < 3; ++k) {
-        L& seed = file.regs[tl.seed[k]];
+        expr::IntervalLanes& seed = file.regs[tl.seed[k]];
         for (int l = 0; l < 3; ++l) expr::set_lane(seed, l, UpInterval(l == k ? 1.0 : 0.0));
         expr::set_lane(seed, 3, UpInterval(dc[k]));
     }
@@ -1126,13 +1102,7 @@ void Walker::load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m) {
         for (int k = 0; k < m; ++k) {
             const double lo = boxes[k].lo[c], hi = boxes[k].hi[c];
             if (lo <= hi) {
-                if constexpr (std::is_same_v<L, expr::IntervalLanesF>) {  // rounded outward
-                    x.lo[k] = expr::lower_f32(lo);
-                    x.hi[k] = expr::upper_f32(hi);
-                } else {
-                    x.lo[k] = lo;
-                    x.hi[k] = hi;
-                }
+                expr::set_bounds(x, k, lo, hi);  // binary32: rounded outward
                 def |= std::uint64_t{1} << k;
             } else {
                 expr::set_lane(x, k, UpInterval::empty());
@@ -1174,13 +1144,9 @@ template <class L>
 void Walker::load_fixed(LaneFile<L>& file, const Level& level, int m) {
     for (const auto& [slot, v] : level.folded.fixed) {
         L& x = file.regs[slot];
-        if constexpr (std::is_same_v<L, expr::IntervalLanesF>) {  // rounded outward
-            std::fill(x.lo, x.lo + m, expr::lower_f32(v.lower()));
-            std::fill(x.hi, x.hi + m, expr::upper_f32(v.upper()));
-        } else {
-            std::fill(x.lo, x.lo + m, v.lower());
-            std::fill(x.hi, x.hi + m, v.upper());
-        }
+        expr::set_bounds(x, 0, v.lower(), v.upper());  // binary32: rounded outward
+        std::fill(x.lo + 1, x.lo + m, x.lo[0]);
+        std::fill(x.hi + 1, x.hi + m, x.hi[0]);
         x.defined[0] = ~std::uint64_t{0};  // fold_ssa fixes defined enclosures only
     }
 }

@@ -64,17 +64,37 @@ using IsaGuard = testing::BatchIsaGuard;
 /// One box per lane.
 using Boxes = std::vector<std::array<UpInterval, 3>>;
 
+/// The registers `list` writes.
+std::set<std::uint32_t> written_by(const std::vector<Instr>& list) {
+    std::set<std::uint32_t> written;
+    for (const Instr& in : list) written.insert(in.out);
+    return written;
+}
+
+/// The batch walk of `list` over lanes 0 … n − 1 of p into r (L: IntervalLanes or IntervalLanesF)
+/// on the copy `isa`, called as a host in this run's floating-point state would call it, after
+/// stale values in every register, so that a lane the walk forgets to write shows.
+template <class L>
+void walk_as_host(BatchIsa isa, const std::vector<Instr>& list, const std::array<L, 3>& p,
+                  std::vector<L>& r, int n) {
+    set_batch_isa(isa);
+    for (L& reg : r) {
+        for (int i = 0; i < kIntervalLanes; ++i) set_lane(reg, i, UpInterval(-12345.0));
+    }
+    testing::as_host([&] {
+        RoundingScope up;
+        run_interval_batch(list.data(), list.data() + list.size(), p.data(), r.data(), n);
+        return 0;
+    });
+}
+
 /// Runs `list` over `boxes` with the scalar walk (default environment, its own RoundingScope) and
 /// with the batch walk on every copy (as the host of this run), and compares every register the
 /// list writes in every lane. Returns a description of the first mismatch, or "".
 std::string mismatch(const std::vector<Instr>& list, const Boxes& boxes) {
     const int n = static_cast<int>(boxes.size());
-    std::uint32_t registers = 0;
-    std::set<std::uint32_t> written;
-    for (const Instr& in : list) {
-        registers = std::max(registers, in.out + 1);
-        written.insert(in.out);
-    }
+    const std::set<std::uint32_t> written = written_by(list);
+    const std::uint32_t registers = *written.rbegin() + 1;
     // Expected: want[i][reg].
     std::vector<std::vector<UpInterval>> want(n, std::vector<UpInterval>(registers));
     {
@@ -88,16 +108,7 @@ std::string mismatch(const std::vector<Instr>& list, const Boxes& boxes) {
     IsaGuard guard;
     std::vector<IntervalLanes> r(registers);
     for (BatchIsa isa : batch_isas()) {
-        set_batch_isa(isa);
-        // Stale values in every register, so that a lane the walk forgets to write shows.
-        for (IntervalLanes& reg : r) {
-            for (int i = 0; i < kIntervalLanes; ++i) set_lane(reg, i, UpInterval(-12345.0));
-        }
-        testing::as_host([&] {
-            RoundingScope up;
-            run_interval_batch(list.data(), list.data() + list.size(), p.data(), r.data(), n);
-            return 0;
-        });
+        walk_as_host(isa, list, p, r, n);
         for (std::uint32_t reg : written) {
             for (int i = 0; i < n; ++i) {
                 const UpInterval got = lane(r[reg], i);
@@ -398,12 +409,8 @@ template <class Check>
 std::string f32_failure(const std::vector<Instr>& list, const Boxes& boxes, bool each_op,
                         Check check) {
     const int n = static_cast<int>(boxes.size());
-    std::uint32_t registers = 0;
-    std::set<std::uint32_t> written;
-    for (const Instr& in : list) {
-        registers = std::max(registers, in.out + 1);
-        written.insert(in.out);
-    }
+    const std::set<std::uint32_t> written = written_by(list);
+    const std::uint32_t registers = *written.rbegin() + 1;
     std::array<IntervalLanesF, 3> p{};
     for (int i = 0; i < n; ++i) {
         for (int k = 0; k < 3; ++k) set_lane(p[k], i, boxes[i][k]);
@@ -419,15 +426,7 @@ std::string f32_failure(const std::vector<Instr>& list, const Boxes& boxes, bool
     IsaGuard guard;
     std::vector<IntervalLanesF> r(registers);
     for (BatchIsa isa : batch_isas()) {
-        set_batch_isa(isa);
-        for (IntervalLanesF& reg : r) {
-            for (int i = 0; i < kIntervalLanes; ++i) set_lane(reg, i, UpInterval(-12345.0));
-        }
-        testing::as_host([&] {
-            RoundingScope up;
-            run_interval_batch(list.data(), list.data() + list.size(), p.data(), r.data(), n);
-            return 0;
-        });
+        walk_as_host(isa, list, p, r, n);
         for (std::uint32_t reg : written) {
             if (!each_op && reg != list.back().out) continue;
             for (int i = 0; i < n; ++i) {
