@@ -27,8 +27,8 @@
 // The binary32 walk (IntervalLanesF) is the same template over binary32 vectors (IvSse2F, IvAvx2F;
 // AVX-512 machines take AVX2's): the kernels of + − × ÷ square √ neg abs min max 1/x, their
 // Boost lanes by the scalar operation rounded outward, exp and log by interval/exp_log_kernel_f32.h
-// (exp_log_lanes_f32), every other op through the double walk (via_double), so its contract is
-// inclusion, not equality.
+// and sin and cos by interval/trig_kernel_f32.h (kernel_lanes_f32), every other op through the
+// double walk (via_double), so its contract is inclusion, not equality.
 // Reference: docs/theory/interval_batch.md; timings in docs/benchmarks.md, "Interval batch walk".
 #include "expr/eval_interval_batch.h"
 
@@ -616,28 +616,29 @@ WalkFn walk_for(BatchIsa isa) noexcept;
     o.defined[0] = d[2].defined[0];
 }
 
-/// exp (is_exp) or log of lanes 0 … n − 1 of binary32 registers: interval/exp_log_kernel_f32.h's
-/// bounds where both bounds of a lane take it (exp: −87 ≤ lo ≤ hi ≤ 88; log: normal positive
-/// finite lo ≤ hi), with the operand's decoration (each is defined and continuous there);
-/// elsewhere the scalar exp() or log() on the lane widened, rounded outward. Each block of lanes
+/// exp, log, sin or cos (`op`) of lanes 0 … n − 1 of binary32 registers: the binary32 kernels'
+/// bounds (interval/exp_log_kernel_f32.h, interval/trig_kernel_f32.h) where both bounds of a lane
+/// take it (exp: −87 ≤ lo ≤ hi ≤ 88; log: normal positive finite lo ≤ hi; sin, cos: −2⁹ ≤ lo ≤
+/// hi ≤ 2⁹), with the operand's decoration (each is defined and continuous there); elsewhere the
+/// scalar exp(), log(), sin() or cos() on the lane widened, rounded outward. Each block of lanes
 /// is read before it is written (the output may be the operand's register).
 template <class V>
-[[gnu::always_inline]] inline void exp_log_lanes_f32(bool is_exp, const LanesF& a, LanesF& o,
-                                                     int n) {
+[[gnu::always_inline]] inline void kernel_lanes_f32(Op op, const LanesF& a, LanesF& o, int n) {
     using R = typename V::R;
     using K = certray::detail::ExpKernelF32;
     using KL = certray::detail::LogKernelF32;
+    using KT = certray::detail::TrigKernelF32;
     constexpr int W = V::kWidth;
     constexpr unsigned kAll = (1u << W) - 1;
     R lo_coef[std::size(K::kLo)], hi_coef[std::size(K::kHi)];
-    if (is_exp) {
+    if (op == Op::Exp) {
         for (std::size_t i = 0; i < std::size(K::kLo); ++i) {
             lo_coef[i] = V::set1(K::kLo[i]);
             hi_coef[i] = V::set1(K::kHi[i]);
         }
     }
-    const R low = V::set1(is_exp ? K::kLower : KL::kMinNormal);
-    const R high = V::set1(is_exp ? K::kUpper : KL::kMax);
+    const R low = V::set1(op == Op::Exp ? K::kLower : op == Op::Log ? KL::kMinNormal : -KT::kBound);
+    const R high = V::set1(op == Op::Exp ? K::kUpper : op == Op::Log ? KL::kMax : KT::kBound);
     const std::uint64_t def = a.defined[0];  // read before o is written
     std::uint64_t slow = 0, slow_def = 0;
     for (int k = 0; k < n; k += W) {
@@ -645,12 +646,19 @@ template <class V>
         const unsigned live = n - k >= W ? kAll : (1u << (n - k)) - 1;
         const unsigned ok = V::bits(V::both(V::le(l, u), V::both(V::le(low, l), V::le(u, high))));
         R lo, hi;
-        if (is_exp) {
+        if (op == Op::Exp) {
             lo = V::neg(certray::detail::exp_bound<V, K>(l, V::set1(-1.0), lo_coef));
             hi = certray::detail::exp_bound<V, K>(u, V::set1(1.0), hi_coef);
-        } else {
+        } else if (op == Op::Log) {
             lo = V::neg(certray::detail::log_bound<V, KL>(l, V::set1(-1.0)));
             hi = certray::detail::log_bound<V, KL>(u, V::set1(1.0));
+        } else {
+            const bool sine = op == Op::Sin;
+            certray::detail::trig_interval<V, KT>(
+                l, u, sine, lo, hi, [&](R x1, R s1, R x2, R s2, R& r1, R& r2) {
+                    r1 = certray::detail::trig_point<V, KT>(x1, s1, !sine);
+                    r2 = certray::detail::trig_point<V, KT>(x2, s2, !sine);
+                });
         }
         if (const unsigned s = ~ok & live; s != 0) [[unlikely]] {
             alignas(64) float bl[W], bh[W];
@@ -658,7 +666,11 @@ template <class V>
             V::store(bh, hi);
             for (unsigned m = s; m != 0; m &= m - 1) {
                 const int j = __builtin_ctz(m);
-                const UpInterval v = is_exp ? exp(lane(a, k + j)) : log(lane(a, k + j));
+                const UpInterval x = lane(a, k + j);
+                const UpInterval v = op == Op::Exp   ? exp(x)
+                                     : op == Op::Log ? log(x)
+                                     : op == Op::Sin ? sin(x)
+                                                     : cos(x);
                 bl[j] = lower_f32(v.lower());
                 bh[j] = upper_f32(v.upper());
                 slow_def |= std::uint64_t{v.defined} << (k + j);
@@ -713,11 +725,7 @@ inline void walk(const Instr* in, const Instr* const end, const L* p, L* r, int 
             case Op::Sin:
             case Op::Cos:
                 if constexpr (kF32) {
-                    if (in->op == Op::Exp || in->op == Op::Log) {
-                        exp_log_lanes_f32<V>(in->op == Op::Exp, r[in->a], r[in->out], n);
-                    } else {
-                        via_double(*in, r, n, dwalk);
-                    }
+                    kernel_lanes_f32<V>(in->op, r[in->a], r[in->out], n);
                 } else if (in->op == Op::Exp) {
                     exp_lanes<V>(r[in->a], r[in->out], n);
                 } else if (in->op == Op::Log) {

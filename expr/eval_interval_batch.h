@@ -114,6 +114,8 @@ constexpr bool binary32_kernel(Op op) noexcept {
         case Op::Max:
         case Op::Exp:
         case Op::Log:
+        case Op::Sin:
+        case Op::Cos:
             return true;
         default:
             return false;

@@ -19,6 +19,7 @@
 #include "interval/exp_log_kernel.h"
 #include "interval/exp_log_kernel_f32.h"
 #include "interval/trig_kernel.h"
+#include "interval/trig_kernel_f32.h"
 
 namespace certray::expr::detail {
 // Internal linkage, as if written in eval_interval_batch.cpp, the one file that includes this
@@ -186,6 +187,8 @@ struct IvAvx2F {
     CERTRAY_AVX2 static M both(M a, M b) { return _mm256_and_ps(a, b); }
     CERTRAY_AVX2 static M either(M a, M b) { return _mm256_or_ps(a, b); }
     CERTRAY_AVX2 static R select(M m, R t, R f) { return _mm256_blendv_ps(f, t, m); }
+    /// b where m's sign bit is set, else a (the kernels' selects by a sign).
+    CERTRAY_AVX2 static R by_sign(R a, R b, R m) { return _mm256_blendv_ps(a, b, m); }
     CERTRAY_AVX2 static unsigned bits(M m) { return static_cast<unsigned>(_mm256_movemask_ps(m)); }
     CERTRAY_AVX2 static unsigned same(R a, R b) {
         return bits(_mm256_castsi256_ps(

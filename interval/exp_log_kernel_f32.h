@@ -90,7 +90,7 @@ struct LogKernelF32 {
 
 #if defined(__GNUC__) && defined(__x86_64__)
 /// Four binary32 lanes of SSE (the baseline of x86-64): the operations exp_bound and log_bound
-/// need.
+/// need, and interval/trig_kernel.h's trig_point and trig_interval.
 struct KernelSse2F {
     using R = __m128;
     static R set1(float c) { return _mm_set1_ps(c); }
@@ -101,6 +101,15 @@ struct KernelSse2F {
     static R flip(R a, R m) { return _mm_xor_ps(a, m); }
     static R div(R a, R b) { return _mm_div_ps(a, b); }
     static R max(R a, R b) { return _mm_max_ps(a, b); }
+    static R min(R a, R b) { return _mm_min_ps(a, b); }
+    using M = __m128;  ///< a mask: all bits set in the lanes where a comparison holds
+    static M le(R a, R b) { return _mm_cmple_ps(a, b); }
+    static M lt(R a, R b) { return _mm_cmplt_ps(a, b); }
+    static M eq(R a, R b) { return _mm_cmpeq_ps(a, b); }
+    static M either(M a, M b) { return _mm_or_ps(a, b); }
+    static R select(M m, R t, R f) { return _mm_or_ps(_mm_and_ps(m, t), _mm_andnot_ps(m, f)); }
+    static constexpr int kWidth = 4;
+    static unsigned bits(M m) { return static_cast<unsigned>(_mm_movemask_ps(m)); }
     static void log_split(R x, R& e, R& m) {
         // x = f·2^E, f in [1, 2): E from the exponent bits (E + 127 added to the bits of
         // 1.5·2²³, then 1.5·2²³ taken off, exactly), f with the exponent bits of 1; f ≥ kSqrt2 is

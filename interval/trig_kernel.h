@@ -41,6 +41,7 @@ inline bool trig_kernel_applies(double x) { return x >= -0x1p19 && x <= 0x1p19; 
 /// The trig kernel's constants (docs/theory/trig_kernel.md; tests/interval/trig_kernel_test.cpp
 /// checks them against MPFR).
 struct TrigKernel {
+    static constexpr double kMagic = ExpKernel::kMagic;  ///< 1.5·2⁵²: ⌈a⌉ in upward mode
     static constexpr double kTwoOverPi = 0x1.45f306dc9c883p-1;  ///< ≈ 2/π (any double near it)
     static constexpr double kP1 = 0x1.921fb544p+0;              ///< π/2 to 32 bits, below π/2
     static constexpr double kP2 = 0x1.0b4611a626331p-34;        ///< ≈ π/2 − P1
@@ -111,7 +112,8 @@ concept SelectsBySign = requires(typename V::R r) {
 
 /// Whether side_coef's blend gives the bits of max(t·lo, t·hi) for each pair of a table: lo ≤ hi
 /// and not both zero (where the max would take the sign of −hi's zero).
-constexpr bool blend_gives_max(const double* lo, const double* hi, int n) {
+template <class T>
+constexpr bool blend_gives_max(const T* lo, const T* hi, int n) {
     for (int i = 0; i < n; ++i) {
         if (!(lo[i] <= hi[i]) || (lo[i] == 0 && hi[i] == 0)) return false;
     }
@@ -123,8 +125,8 @@ static_assert(blend_gives_max(TrigKernel::kSinLo, TrigKernel::kSinHi, 10));
 /// t·c for the bound of side t of a coefficient lo ≤ c ≤ hi (tm: t's sign bit): max(t·lo, t·hi),
 /// that is hi where t = +1 and −lo where t = −1 (by V::by_sign where V has it: the same bits for
 /// the tables blend_gives_max accepts).
-template <class V>
-[[gnu::always_inline]] inline typename V::R side_coef(double lo, double hi, typename V::R tm) {
+template <class V, class T>
+[[gnu::always_inline]] inline typename V::R side_coef(T lo, T hi, typename V::R tm) {
     if constexpr (SelectsBySign<V>) {
         return V::by_sign(V::set1(hi), V::set1(-lo), tm);
     } else {
@@ -141,27 +143,27 @@ template <class V>
     return V::flip(V::max(V::flip(a, m), V::flip(b, m)), m);
 }
 
-/// t·P where P is the bound of side t of the polynomial Σ cᵢwⁱ (i ≤ 9) at w ≥ 0, the coefficients
-/// bounded by lo[i] ≤ cᵢ ≤ hi[i]; tm holds t's sign bit, w a double ≥ 0 per lane.
-template <class V>
+/// t·P where P is the bound of side t of the polynomial Σ cᵢwⁱ (i < N) at w ≥ 0, the coefficients
+/// bounded by lo[i] ≤ cᵢ ≤ hi[i]; tm holds t's sign bit, w ≥ 0 per lane.
+template <class V, class T, int N>
 [[gnu::always_inline]] inline typename V::R trig_horner(typename V::R w, typename V::R tm,
-                                                        const double* lo, const double* hi) {
+                                                        const T (&lo)[N], const T (&hi)[N]) {
     const auto coef = [&](int i) { return side_coef<V>(lo[i], hi[i], tm); };
-    typename V::R acc = coef(9);
-    for (int i = 8; i >= 0; --i) acc = V::add(coef(i), V::mul(w, acc));  // t·(cᵢ + w·q), up
+    typename V::R acc = coef(N - 1);
+    for (int i = N - 2; i >= 0; --i) acc = V::add(coef(i), V::mul(w, acc));  // t·(cᵢ + w·q), up
     return acc;
 }
 
 /// s·B per lane, B the bound of side s (−1.0: lower, +1.0: upper) of sin(x) (cosine = false) or
-/// cos(x), for |x| ≤ 2¹⁹ (see the file contract). V provides what exp_bound needs and max, le,
-/// eq, either and select.
-template <class V>
+/// cos(x), for |x| ≤ 2¹⁹ (see the file contract; K = TrigKernelF32 in binary32 lanes: |x| ≤ 2⁹,
+/// interval/trig_kernel_f32.h). V provides what exp_bound needs and max, le, eq, either and
+/// select.
+template <class V, class K = TrigKernel>
 [[gnu::always_inline]] inline typename V::R trig_point(typename V::R x, typename V::R s,
                                                        bool cosine) {
     using R = typename V::R;
-    using K = TrigKernel;
     const R mz = V::set1(-0.0);
-    const R magic = V::set1(ExpKernel::kMagic);
+    const R magic = V::set1(K::kMagic);
     const auto ceil = [&](R a) { return V::sub(V::add(a, magic), magic); };  // upward mode
     // k = ⌈2x/π − ½⌉; the quadrant of sin's argument, k (+ 1 for cos) mod 4, from its floor / 4.
     const R kd = ceil(V::sub(V::mul(x, V::set1(K::kTwoOverPi)), V::set1(0.5)));
@@ -208,20 +210,21 @@ template <class V>
 }
 
 /// [lo, hi] per lane ⊇ sin([l, u]) (sine) or cos([l, u]), for l ≤ u with trig_kernel_applies (see
-/// the file contract). `points(x1, s1, x2, s2, r1, r2)` computes r = trig_point<V>(x, s, !sine) at
-/// the two (x, s) pairs (the scalar caller packs them into one vector).
-template <class V, class Points>
+/// the file contract; K's constants, as trig_point's). `points(x1, s1, x2, s2, r1, r2)` computes
+/// r = trig_point<V, K>(x, s, !sine) at the two (x, s) pairs (the scalar caller packs them into
+/// one vector).
+template <class V, class K = TrigKernel, class Points>
 [[gnu::always_inline]] inline void trig_interval(typename V::R l, typename V::R u, bool sine,
                                                  typename V::R& lo, typename V::R& hi,
                                                  Points points) {
     using R = typename V::R;
     const R mz = V::set1(-0.0), one = V::set1(1.0), minus_one = V::set1(-1.0);
-    const R magic = V::set1(ExpKernel::kMagic);
+    const R magic = V::set1(K::kMagic);
     const auto ceil = [&](R a) { return V::sub(V::add(a, magic), magic); };  // upward mode
     // Outward bounds of l/π and u/π (a quotient rounded down is −((−a)/b)), less ½ for sin: the
     // extrema kπ (+ π/2) inside [l, u] have k in [⌈qlo⌉, ⌊qhi⌋]; 1 for even k, −1 for odd k.
     const R zero = V::set1(0.0);
-    const R pi_lo = V::set1(TrigKernel::kPiLo), pi_hi = V::set1(TrigKernel::kPiHi);
+    const R pi_lo = V::set1(K::kPiLo), pi_hi = V::set1(K::kPiHi);
     R qlo = V::flip(V::div(V::flip(l, mz), V::select(V::le(zero, l), pi_hi, pi_lo)), mz);
     R qhi = V::div(u, V::select(V::le(zero, u), pi_lo, pi_hi));
     if (sine) {
@@ -245,8 +248,7 @@ template <class V, class Points>
     lo = V::select(one_inside, V::select(even, least, minus_one), least);
     hi = V::select(one_inside, V::select(even, one, most), most);
     // Two extrema inside, or a whole period (the width rounded up): [−1, 1].
-    const auto whole =
-        V::either(V::lt(k0, k1), V::le(V::set1(2 * TrigKernel::kPiLo), V::sub(u, l)));
+    const auto whole = V::either(V::lt(k0, k1), V::le(V::set1(2 * K::kPiLo), V::sub(u, l)));
     lo = V::max(minus_one, V::select(whole, minus_one, lo));
     hi = V::min(one, V::select(whole, one, hi));
 }

@@ -140,10 +140,10 @@ struct LaneFile {
     std::vector<L> regs;
 };
 
-/// Whether the ops that the binary32 walk takes in double (expr::binary32_kernel: sin, cos and
-/// the ops without a vector kernel) are at most a sixth of the instructions of `list`: where they
-/// are many, that costs more than eight lanes save (the gyroid's quarter of sin and cos: 7% more
-/// time; docs/benchmarks.md, session 19).
+/// Whether the ops that the binary32 walk takes in double (expr::binary32_kernel: pow, tan,
+/// floor and the other ops without a vector kernel) are at most a sixth of the instructions of
+/// `list`: where they are many, that costs more than eight lanes save (the gyroid's quarter of sin
+/// and cos, before they had binary32 kernels: 7% more time; docs/benchmarks.md, session 19).
 bool mostly_arithmetic(const Ssa& list) {
     const auto n = std::count_if(list.begin(), list.end(), [](const expr::Instr& in) {
         return !expr::binary32_kernel(in.op);
