@@ -24,17 +24,18 @@ tracers::Box3 render_bounds(const Scene& scene, const RenderSettings& s) {
 }
 
 tracers::Camera auto_frame(const Scene& scene, const tracers::Box3& bounds, double fov_degrees,
-                           double aspect) {
+                           double aspect, unsigned threads) {
     NearestScope env;
-    const std::vector<tracers::Box3> cells = tracers::surface_cells(scene.tape(), bounds);
+    const std::vector<tracers::Box3> cells =
+        tracers::surface_cells(scene.tape(), bounds, 5, threads);
     const std::optional<tracers::Box3> extent = tracers::hull(cells);
     return extent ? tracers::frame_boxes(cells, *extent, fov_degrees, aspect)
                   : tracers::frame_box(bounds, fov_degrees, aspect);
 }
 
-bool surface_reaches_bounds(const Scene& scene, const tracers::Box3& bounds) {
+bool surface_reaches_bounds(const Scene& scene, const tracers::Box3& bounds, unsigned threads) {
     NearestScope env;
-    return tracers::surface_cells_touch_bounds(scene.tape(), bounds);
+    return tracers::surface_cells_touch_bounds(scene.tape(), bounds, 5, threads);
 }
 
 tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {
@@ -67,7 +68,7 @@ tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {
     ro.camera = s.camera  ? *s.camera
                 : s.ortho ? tracers::Camera{}  // the heightmap has no camera to frame
                           : auto_frame(scene, ro.bounds, s.fov_degrees,
-                                       static_cast<double>(s.width) / s.height);
+                                       static_cast<double>(s.width) / s.height, s.threads);
     mo.bounds = std::array<Interval, 3>{Interval(ro.bounds[0][0], ro.bounds[0][1]),
                                         Interval(ro.bounds[1][0], ro.bounds[1][1]),
                                         Interval(ro.bounds[2][0], ro.bounds[2][1])};

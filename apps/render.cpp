@@ -390,7 +390,7 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
     if (o.fov) rs.fov_degrees = *o.fov;
     const Scene scene = Scene::from_graph(spec.graph);
     // Auto-framed (the cells where the surface may be, seen whole), then the JSON's camera keys.
-    if (!o.quiet && surface_reaches_bounds(scene, render_bounds(scene, rs))) {
+    if (!o.quiet && surface_reaches_bounds(scene, render_bounds(scene, rs), rs.threads)) {
         const Box3 b = render_bounds(scene, rs);
         std::cerr << "certray render: warning: the surface may reach the bounds [" << b[0][0]
                   << ", " << b[0][1] << "] x [" << b[1][0] << ", " << b[1][1] << "] x [" << b[2][0]
@@ -398,9 +398,10 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
                   << "]: the picture may be clipped there (try larger --bounds)\n";
     }
     // (The heightmap has no camera to frame.)
-    tracers::Camera camera = rs.ortho ? tracers::Camera{}
-                                      : auto_frame(scene, render_bounds(scene, rs), rs.fov_degrees,
-                                                   static_cast<double>(rs.width) / rs.height);
+    tracers::Camera camera =
+        rs.ortho ? tracers::Camera{}
+                 : auto_frame(scene, render_bounds(scene, rs), rs.fov_degrees,
+                              static_cast<double>(rs.width) / rs.height, rs.threads);
     if (spec.camera) {
         const auto& c = *spec.camera;
         if (c.contains("eye")) camera.eye = read_vec3(o.scene, c["eye"], "camera.eye");

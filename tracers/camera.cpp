@@ -2,6 +2,7 @@
 #include "tracers/camera.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -10,6 +11,7 @@
 #include "expr/eval.h"
 #include "expr/prune.h"
 #include "interval/interval.h"
+#include "tracers/parallel.h"
 
 namespace certray::tracers {
 
@@ -74,79 +76,156 @@ bool clip_ray(Ray& ray, const Box3& box) {
 
 namespace {
 
-/// The subdivision of surface_cells, depth first: `leaf(cell)` for each cell of the last level
-/// where f may vanish, only below cells for which `descend(box)` holds; stops at the first leaf
-/// that returns true (and returns true then).
-template <class Descend, class Leaf>
-bool visit_surface_cells(const expr::Tape& tape, const Box3& bounds, int levels, Descend descend,
-                         Leaf leaf) {
-    // Each cell evaluated with the list pruned to its parent (equal to f there), so that a CSG
-    // tree of thousands of primitives is not evaluated whole on every small cell; one list and one
-    // register file per level.
-    using Ssa = std::vector<expr::Instr>;
-    using Box = std::array<UpInterval, 3>;
-    levels = std::clamp(levels, 0, 6);  // at most 8^6 cells
+using Ssa = std::vector<expr::Instr>;
+using Box = std::array<UpInterval, 3>;
+
+/// One worker's state of the subdivision of surface_cells: each cell is evaluated with the list
+/// pruned to its parent (equal to f there), so that a CSG tree of thousands of primitives is not
+/// evaluated whole on every small cell; one list and one register file per level.
+struct CellWalk {
     struct Level {
         std::vector<UpInterval> values;
         Ssa list;
     };
-    std::vector<Level> level(static_cast<std::size_t>(levels) + 1);
+    std::vector<Level> level;
     expr::PruneWorkspace ws;
-    ws.absolute_values = true;
-    RoundingScope up;  // UpInterval arithmetic below; midpoints are only split points
-    const auto visit = [&](const auto& self, const Box& box, const Ssa& list, int depth) -> bool {
-        if (!descend(box)) return false;
+
+    explicit CellWalk(int levels) : level(static_cast<std::size_t>(levels) + 1) {
+        ws.absolute_values = true;
+    }
+    /// Whether f may vanish on `box` (0 ∈ F, or F not proven defined), by `list` at `depth`
+    /// (upward mode held); then *sub is the list for its children (pruned to it, or `list`).
+    bool may_vanish(const Box& box, const Ssa& list, int depth, const Ssa*& sub) {
         Level& l = level[static_cast<std::size_t>(depth)];
         if (l.values.size() < list.size()) l.values.resize(list.size());
         expr::detail::run<UpInterval>(list, box, l.values.data());
         const UpInterval v = l.values[list.back().out];
-        if (v.defined && !v.is_empty() && !possibly_zero(v)) return false;  // f cannot vanish
-        if (depth == levels) {
-            return leaf(Box3{{{box[0].lower(), box[0].upper()},
-                              {box[1].lower(), box[1].upper()},
-                              {box[2].lower(), box[2].upper()}}});
+        if (v.defined && !v.is_empty() && !possibly_zero(v)) return false;
+        sub = &list;
+        if (depth + 1 < static_cast<int>(level.size()) &&
+            expr::prune_ssa(list, l.values.data(), ws, l.list)) {
+            sub = &l.list;
         }
-        const Ssa* sub = &list;
-        if (expr::prune_ssa(list, l.values.data(), ws, l.list)) sub = &l.list;
-        const double m[3] = {0.5 * box[0].lower() + 0.5 * box[0].upper(),
-                             0.5 * box[1].lower() + 0.5 * box[1].upper(),
-                             0.5 * box[2].lower() + 0.5 * box[2].upper()};
-        for (int k = 0; k < 8; ++k) {
-            Box s;
-            for (int a = 0; a < 3; ++a) {
-                s[a] = (k >> a) & 1 ? UpInterval(m[a], box[a].upper())
-                                    : UpInterval(box[a].lower(), m[a]);
-            }
-            if (self(self, s, *sub, depth + 1)) return true;
-        }
-        return false;
+        return true;
+    }
+};
+
+/// Octant k of `box` (bit a of k: the upper half along axis a).
+Box octant(const Box& box, int k) {
+    Box s;
+    for (int a = 0; a < 3; ++a) {
+        const double m = 0.5 * box[a].lower() + 0.5 * box[a].upper();  // a split point only
+        s[a] = (k >> a) & 1 ? UpInterval(m, box[a].upper()) : UpInterval(box[a].lower(), m);
+    }
+    return s;
+}
+
+Box3 box3(const Box& box) {
+    return Box3{{{box[0].lower(), box[0].upper()},
+                 {box[1].lower(), box[1].upper()},
+                 {box[2].lower(), box[2].upper()}}};
+}
+
+/// The subdivision of surface_cells, depth first: `leaf(cell, task)` for each cell of the last
+/// level where f may vanish, only below cells for which `descend(box)` holds; stops at the first
+/// leaf that returns true (and returns true then). The first two levels are walked by the calling
+/// thread; the cells of the third (at most 64) are tasks spread over `threads` workers
+/// (tracers/parallel.h), `task` their index in depth-first order, so that a caller that keeps
+/// each task's leaves apart gets them in the order of one thread. `descend` is called from any
+/// worker, `leaf` from the one that runs the task.
+template <class Descend, class Leaf>
+bool visit_surface_cells(const expr::Tape& tape, const Box3& bounds, int levels, unsigned threads,
+                         Descend descend, Leaf leaf) {
+    levels = std::clamp(levels, 0, 6);  // at most 8^6 cells
+    const int split = std::min(levels, 2);
+    struct Task {
+        Box box;
+        std::size_t list;  ///< index in `lists`: its parent's list
     };
+    std::vector<Ssa> lists;
+    std::vector<Task> tasks;
     const Box root{UpInterval(bounds[0][0], bounds[0][1]), UpInterval(bounds[1][0], bounds[1][1]),
                    UpInterval(bounds[2][0], bounds[2][1])};
-    return visit(visit, root, tape.ssa(), 0);
+    {
+        RoundingScope up;  // UpInterval arithmetic below; midpoints are only split points
+        CellWalk walk(levels);
+        const auto top = [&](const auto& self, const Box& box, const Ssa& list, int depth) -> void {
+            if (depth == split) {
+                if (lists.empty() || &lists.back() != &list) lists.push_back(list);
+                tasks.push_back({box, lists.size() - 1});
+                return;
+            }
+            const Ssa* sub = nullptr;
+            if (!descend(box) || !walk.may_vanish(box, list, depth, sub)) return;
+            if (depth + 1 == split) {
+                lists.push_back(*sub);  // its octants' tasks share it
+                for (int k = 0; k < 8; ++k) self(self, octant(box, k), lists.back(), depth + 1);
+                return;
+            }
+            for (int k = 0; k < 8; ++k) self(self, octant(box, k), *sub, depth + 1);
+        };
+        top(top, root, tape.ssa(), 0);
+    }
+    std::atomic<bool> found{false};
+    const unsigned workers =
+        std::min<unsigned>(worker_count(threads), std::max<std::size_t>(tasks.size(), 1));
+    std::vector<CellWalk> walks(workers, CellWalk(levels));
+    ParallelOptions po;
+    po.threads = workers;
+    po.chunk = 1;
+    po.cancel = &found;
+    parallel_for(tasks.size(), po, [&](std::size_t begin, std::size_t end, unsigned worker) {
+        RoundingScope up;
+        CellWalk& walk = walks[worker];
+        for (std::size_t t = begin; t < end; ++t) {
+            const auto visit = [&](const auto& self, const Box& box, const Ssa& list,
+                                   int depth) -> bool {
+                if (found.load(std::memory_order_relaxed)) return true;
+                const Ssa* sub = nullptr;
+                if (!descend(box) || !walk.may_vanish(box, list, depth, sub)) return false;
+                if (depth == levels) {
+                    if (!leaf(box3(box), t)) return false;
+                    found.store(true, std::memory_order_relaxed);
+                    return true;
+                }
+                for (int k = 0; k < 8; ++k) {
+                    if (self(self, octant(box, k), *sub, depth + 1)) return true;
+                }
+                return false;
+            };
+            if (visit(visit, tasks[t].box, lists[tasks[t].list], split)) return;
+        }
+    });
+    return found.load();
 }
 
 }  // namespace
 
-std::vector<Box3> surface_cells(const expr::Tape& tape, const Box3& bounds, int levels) {
-    std::vector<Box3> out;
+std::vector<Box3> surface_cells(const expr::Tape& tape, const Box3& bounds, int levels,
+                                unsigned threads) {
+    std::vector<std::vector<Box3>> per_task(64);  // at most 8² tasks
     visit_surface_cells(
-        tape, bounds, levels, [](const auto&) { return true; },
-        [&](const Box3& cell) {
-            out.push_back(cell);
+        tape, bounds, levels, threads, [](const auto&) { return true; },
+        [&](const Box3& cell, std::size_t task) {
+            per_task[task].push_back(cell);
             return false;
         });
+    std::vector<Box3> out;
+    for (const std::vector<Box3>& cells : per_task)
+        out.insert(out.end(), cells.begin(), cells.end());
     return out;
 }
 
-bool surface_cells_touch_bounds(const expr::Tape& tape, const Box3& bounds, int levels) {
+bool surface_cells_touch_bounds(const expr::Tape& tape, const Box3& bounds, int levels,
+                                unsigned threads) {
     const auto touches = [&](const auto& box) {
         for (int a = 0; a < 3; ++a) {
             if (box[a].lower() <= bounds[a][0] || box[a].upper() >= bounds[a][1]) return true;
         }
         return false;
     };
-    return visit_surface_cells(tape, bounds, levels, touches, [](const Box3&) { return true; });
+    return visit_surface_cells(tape, bounds, levels, threads, touches,
+                               [](const Box3&, std::size_t) { return true; });
 }
 
 std::optional<Box3> hull(const std::vector<Box3>& boxes) {
@@ -161,8 +240,9 @@ std::optional<Box3> hull(const std::vector<Box3>& boxes) {
     return box;
 }
 
-std::optional<Box3> surface_extent(const expr::Tape& tape, const Box3& bounds, int levels) {
-    return hull(surface_cells(tape, bounds, levels));
+std::optional<Box3> surface_extent(const expr::Tape& tape, const Box3& bounds, int levels,
+                                   unsigned threads) {
+    return hull(surface_cells(tape, bounds, levels, threads));
 }
 
 Camera frame_box(const Box3& box, double fov_degrees, double aspect, Vec3 from) {

@@ -57,18 +57,23 @@ bool clip_ray(Ray& ray, const Box3& box);
 
 /// A box enclosing every point of `bounds` where f may vanish (0 ∈ F over a cell, or F not
 /// proven defined), by `levels` rounds of subdivision into octants; nullopt when the surface is
-/// proven absent from the bounds.
-std::optional<Box3> surface_extent(const expr::Tape& tape, const Box3& bounds, int levels = 5);
+/// proven absent from the bounds. `threads` as surface_cells.
+std::optional<Box3> surface_extent(const expr::Tape& tape, const Box3& bounds, int levels = 5,
+                                   unsigned threads = 1);
 
 /// The cells of the last subdivision level of surface_extent (empty when the surface is proven
-/// absent): every point of the bounds where f may vanish lies in one of them.
-std::vector<Box3> surface_cells(const expr::Tape& tape, const Box3& bounds, int levels = 5);
+/// absent): every point of the bounds where f may vanish lies in one of them, in depth-first
+/// order. The cells of the third level (at most 64) are subdivided on `threads` workers
+/// (tracers/parallel.h; 0: one per hardware thread); the same cells in the same order with any.
+std::vector<Box3> surface_cells(const expr::Tape& tape, const Box3& bounds, int levels = 5,
+                                unsigned threads = 1);
 
 /// Whether a cell of surface_cells(tape, bounds, levels) touches a face of `bounds` (a side of
 /// the cell on or past it): the same subdivision, descending only into cells that touch a face
-/// (no other cell has such descendants) and stopping at the first. The same answer as testing
-/// every cell surface_cells gives, in a fraction of its evaluations.
-bool surface_cells_touch_bounds(const expr::Tape& tape, const Box3& bounds, int levels = 5);
+/// (no other cell has such descendants) and stopping at the first (every worker stops). The same
+/// answer as testing every cell surface_cells gives, in a fraction of its evaluations.
+bool surface_cells_touch_bounds(const expr::Tape& tape, const Box3& bounds, int levels = 5,
+                                unsigned threads = 1);
 
 /// The smallest box containing all `boxes`; nullopt when there are none.
 std::optional<Box3> hull(const std::vector<Box3>& boxes);

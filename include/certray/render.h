@@ -52,13 +52,15 @@ struct RenderSettings {
 /// The bounds box render() uses for `settings` on `scene`.
 tracers::Box3 render_bounds(const Scene& scene, const RenderSettings& settings);
 
-/// A camera that sees the surface of `scene` inside `bounds` whole, from (1, -2, 0.8).
+/// A camera that sees the surface of `scene` inside `bounds` whole, from (1, -2, 0.8). The
+/// subdivision that finds the surface runs on `threads` workers (0: one per hardware thread); the
+/// camera is the same with any.
 tracers::Camera auto_frame(const Scene& scene, const tracers::Box3& bounds, double fov_degrees,
-                           double aspect);
+                           double aspect, unsigned threads = 0);
 
 /// True when the surface may reach a face of `bounds` (a cell of the interval subdivision that may
-/// hold it lies on the face): the picture may show it clipped.
-bool surface_reaches_bounds(const Scene& scene, const tracers::Box3& bounds);
+/// hold it lies on the face): the picture may show it clipped. `threads` as auto_frame's.
+bool surface_reaches_bounds(const Scene& scene, const tracers::Box3& bounds, unsigned threads = 0);
 
 /// Renders `scene` (see the file contract). Throws std::invalid_argument for a 2D scene, an empty
 /// size, an unknown method or knob, or a method that does not apply to the scene.

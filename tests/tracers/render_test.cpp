@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -243,6 +245,56 @@ TEST(Camera, SurfaceTouchesTheBoundsAsItsCellsDo) {
     for (const auto& c : cases) {
         EXPECT_EQ(surface_cells_touch_bounds(c.tape, c.bounds), c.touches);
         EXPECT_EQ(some_cell_touches(c.tape, c.bounds), c.touches);
+    }
+}
+
+/// The subdivision on 1, 2 and 3 workers: the same cells in the same order, and the same answer
+/// on the faces, at every depth; every point of the unit sphere (drawn on it) lies in a cell, and
+/// every cell of the sphere's holds a point at distance 1 from the origin (a cell of side 1/8 at
+/// level 5 reaches within its diagonal of the sphere).
+TEST(Camera, SurfaceCellsAreTheSameOnAnyNumberOfThreads) {
+    const expr::Tape torus(expr::parse_expr("(sqrt(x^2 + y^2) - 1)^2 + z^2 - 0.09"));
+    const Box3 wide{{{-2, 2}, {-2, 2}, {-2, 2}}}, tight{{{-0.9, 0.9}, {-0.9, 0.9}, {-0.9, 0.9}}};
+    for (const expr::Tape* tape : {&sphere(), &torus}) {
+        for (const Box3& bounds : {wide, tight}) {
+            for (int levels = 0; levels <= 5; ++levels) {
+                const std::vector<Box3> one = surface_cells(*tape, bounds, levels, 1);
+                const bool touches = surface_cells_touch_bounds(*tape, bounds, levels, 1);
+                for (unsigned threads : {2u, 3u}) {
+                    EXPECT_EQ(surface_cells(*tape, bounds, levels, threads), one)
+                        << levels << " levels, " << threads << " threads";
+                    EXPECT_EQ(surface_cells_touch_bounds(*tape, bounds, levels, threads), touches)
+                        << levels << " levels, " << threads << " threads";
+                }
+            }
+        }
+    }
+    const std::vector<Box3> cells = surface_cells(sphere(), wide, 5, 2);
+    ASSERT_FALSE(cells.empty());
+    std::mt19937 rng(7);
+    std::normal_distribution<double> normal;
+    for (int n = 0; n < 2000; ++n) {
+        std::array<double, 3> p{normal(rng), normal(rng), normal(rng)};
+        const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        for (double& c : p) c /= r;
+        const bool inside = std::any_of(cells.begin(), cells.end(), [&](const Box3& c) {
+            for (int a = 0; a < 3; ++a) {
+                if (p[a] < c[a][0] - 1e-12 || p[a] > c[a][1] + 1e-12) return false;
+            }
+            return true;
+        });
+        EXPECT_TRUE(inside) << p[0] << " " << p[1] << " " << p[2];
+    }
+    for (const Box3& c : cells) {
+        double near = 0, far = 0;  // squared distances from the origin to the cell
+        for (int a = 0; a < 3; ++a) {
+            const double lo = c[a][0], hi = c[a][1];
+            const double nearest = lo > 0 ? lo : hi < 0 ? hi : 0.0;
+            near += nearest * nearest;
+            far += std::max(lo * lo, hi * hi);
+        }
+        EXPECT_LE(near, 1.0 + 1e-12);
+        EXPECT_GE(far, 1.0 - 1e-12);
     }
 }
 
