@@ -120,6 +120,11 @@ Box octant(const Box& box, int k) {
     return s;
 }
 
+/// visit_surface_cells walks the levels above kSplit on the calling thread; the cells at kSplit
+/// (at most kMaxTasks) are its tasks.
+constexpr int kSplit = 2;
+constexpr std::size_t kMaxTasks = 64;  // 8^kSplit
+
 Box3 box3(const Box& box) {
     return Box3{{{box[0].lower(), box[0].upper()},
                  {box[1].lower(), box[1].upper()},
@@ -128,8 +133,8 @@ Box3 box3(const Box& box) {
 
 /// The subdivision of surface_cells, depth first: `leaf(cell, task)` for each cell of the last
 /// level where f may vanish, only below cells for which `descend(box)` holds; stops at the first
-/// leaf that returns true (and returns true then). The first two levels are walked by the calling
-/// thread; the cells of the third (at most 64) are tasks spread over `threads` workers
+/// leaf that returns true (and returns true then). The levels above kSplit are walked by the
+/// calling thread; the cells at kSplit (at most kMaxTasks) are tasks spread over `threads` workers
 /// (tracers/parallel.h), `task` their index in depth-first order, so that a caller that keeps
 /// each task's leaves apart gets them in the order of one thread. `descend` is called from any
 /// worker, `leaf` from the one that runs the task.
@@ -137,7 +142,7 @@ template <class Descend, class Leaf>
 bool visit_surface_cells(const expr::Tape& tape, const Box3& bounds, int levels, unsigned threads,
                          Descend descend, Leaf leaf) {
     levels = std::clamp(levels, 0, 6);  // at most 8^6 cells
-    const int split = std::min(levels, 2);
+    const int split = std::min(levels, kSplit);
     struct Task {
         Box box;
         std::size_t list;  ///< index in `lists`: its parent's list
@@ -150,21 +155,21 @@ bool visit_surface_cells(const expr::Tape& tape, const Box3& bounds, int levels,
         RoundingScope up;  // UpInterval arithmetic below; midpoints are only split points
         CellWalk walk(levels);
         const auto top = [&](const auto& self, const Box& box, const Ssa& list, int depth) -> void {
-            if (depth == split) {
-                if (lists.empty() || &lists.back() != &list) lists.push_back(list);
-                tasks.push_back({box, lists.size() - 1});
-                return;
-            }
             const Ssa* sub = nullptr;
             if (!descend(box) || !walk.may_vanish(box, list, depth, sub)) return;
             if (depth + 1 == split) {
                 lists.push_back(*sub);  // its octants' tasks share it
-                for (int k = 0; k < 8; ++k) self(self, octant(box, k), lists.back(), depth + 1);
+                for (int k = 0; k < 8; ++k) tasks.push_back({octant(box, k), lists.size() - 1});
                 return;
             }
             for (int k = 0; k < 8; ++k) self(self, octant(box, k), *sub, depth + 1);
         };
-        top(top, root, tape.ssa(), 0);
+        if (split == 0) {
+            lists.push_back(tape.ssa());
+            tasks.push_back({root, 0});
+        } else {
+            top(top, root, tape.ssa(), 0);
+        }
     }
     std::atomic<bool> found{false};
     const unsigned workers =
@@ -203,7 +208,7 @@ bool visit_surface_cells(const expr::Tape& tape, const Box3& bounds, int levels,
 
 std::vector<Box3> surface_cells(const expr::Tape& tape, const Box3& bounds, int levels,
                                 unsigned threads) {
-    std::vector<std::vector<Box3>> per_task(64);  // at most 8² tasks
+    std::vector<std::vector<Box3>> per_task(kMaxTasks);
     visit_surface_cells(
         tape, bounds, levels, threads, [](const auto&) { return true; },
         [&](const Box3& cell, std::size_t task) {

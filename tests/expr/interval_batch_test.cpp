@@ -349,6 +349,29 @@ RC_GTEST_PROP(IntervalBatchProperty, SinAndCosMatchTheScalarWalk, ()) {
         RC_ASSERT(m == "");
     }
 }
+
+/// Lists written by prune_ssa (slots numbered from the output backwards), pruned to a box.
+RC_GTEST_PROP(IntervalBatchProperty, PrunedSsaListsMatchTheScalarWalk, ()) {
+    const Tape t(*gen_any_dag(40));
+    const std::vector<Instr>& ssa = t.ssa();
+    std::array<UpInterval, 3> region;
+    for (auto& v : region) v = *gen_box();
+    std::vector<UpInterval> values(ssa.size());
+    PruneWorkspace ws;
+    std::vector<Instr> pruned;
+    bool shorter = false;
+    {
+        RoundingScope up;
+        detail::run<UpInterval>(ssa, region, values.data());
+        shorter = prune_ssa(ssa, values.data(), ws, pruned);
+    }
+    RC_CLASSIFY(shorter);
+    const std::string m = mismatch(shorter ? pruned : ssa, *gen_boxes());
+    RC_ASSERT(m == "");
+}
+
+// ---- the binary32 walk -----------------------------------------------------------------------
+
 TEST(IntervalBatchF32, OutwardRounding) {
     const float fmax = std::numeric_limits<float>::max();
     const float fsub = std::numeric_limits<float>::denorm_min();

@@ -123,7 +123,7 @@ std::array<double, 2> point(double x, bool cosine) {
 /// Empty when [lo, hi] encloses `exact` and lies within the tolerance `tol` of it; otherwise what
 /// failed.
 std::string within(double lo, double hi, const MpfrInterval& exact, const std::string& what,
-                   Tolerance tol = kDouble) {
+                   Tolerance tol) {
     std::ostringstream out;
     out.precision(17);
     out << what << ": [" << lo << ", " << hi << "] against " << testing::describe(exact);
@@ -136,15 +136,31 @@ std::string within(double lo, double hi, const MpfrInterval& exact, const std::s
     return "";
 }
 
-std::string check_point(double x) {
+/// The binary32 point kernel's lower and upper bound of sin(x) or cos(x).
+std::array<double, 2> point(float x, bool cosine) {
+    float b[2];
+    RoundingScope up;
+    detail::trig_f32_point_bounds(x, cosine, b);
+    return {b[0], b[1]};
+}
+
+/// The double or (x a float) the binary32 kernel's kind, for messages, and its tolerance.
+template <class T>
+constexpr const char* kind_of = std::is_same_v<T, float> ? "binary32 " : "";
+template <class T>
+constexpr Tolerance tolerance_of = std::is_same_v<T, float> ? kBinary32 : kDouble;
+
+/// Empty when the point kernel of x's type bounds sin(x) and cos(x) within its tolerance of MPFR.
+template <class T>
+std::string check_point(T x) {
     std::string m;
     for (const bool cosine : {false, true}) {
         const std::array<double, 2> b = point(x, cosine);
-        const MpfrInterval v(x);
+        const MpfrInterval v(static_cast<double>(x));
         std::ostringstream what;
         what.precision(17);
-        what << (cosine ? "cos " : "sin ") << x;
-        m += within(b[0], b[1], cosine ? cos(v) : sin(v), what.str());
+        what << kind_of<T> << (cosine ? "cos " : "sin ") << x;
+        m += within(b[0], b[1], cosine ? cos(v) : sin(v), what.str(), tolerance_of<T>);
     }
     return m;
 }
@@ -182,16 +198,32 @@ RC_GTEST_PROP(TrigKernel, PointBoundsAtRandomPoints, ()) {
     RC_ASSERT(check_point(x) == "");
 }
 
-/// Empty when sin and cos of [l, u] enclose MPFR's range and lie within the tolerance of it.
-std::string check_interval(double l, double u) {
+/// sin (sine) or cos of [l, u]: by the scalar Interval (its double kernel, or libm past 2¹⁹), or
+/// (l and u floats) by the binary32 kernel.
+std::array<double, 2> interval_bounds(double l, double u, bool sine) {
+    const Interval v = sine ? sin(Interval(l, u)) : cos(Interval(l, u));
+    return {v.lower(), v.upper()};
+}
+std::array<double, 2> interval_bounds(float l, float u, bool sine) {
+    float b[2];
+    RoundingScope up;
+    detail::trig_f32_interval_bounds(l, u, sine, b);
+    return {b[0], b[1]};
+}
+
+/// Empty when sin and cos of [l, u] (by interval_bounds of their type) enclose MPFR's range and
+/// lie within the tolerance of it.
+template <class T>
+std::string check_interval(T l, T u) {
     std::string m;
     for (const bool sine : {true, false}) {
-        const Interval v = sine ? sin(Interval(l, u)) : cos(Interval(l, u));
-        const MpfrInterval exact = sine ? sin(MpfrInterval(l, u)) : cos(MpfrInterval(l, u));
+        const std::array<double, 2> b = interval_bounds(l, u, sine);
+        const MpfrInterval range(static_cast<double>(l), static_cast<double>(u));
+        const MpfrInterval exact = sine ? sin(range) : cos(range);
         std::ostringstream what;
         what.precision(17);
-        what << (sine ? "sin [" : "cos [") << l << ", " << u << "]";
-        m += within(v.lower(), v.upper(), exact, what.str());
+        what << kind_of<T> << (sine ? "sin [" : "cos [") << l << ", " << u << "]";
+        m += within(b[0], b[1], exact, what.str(), tolerance_of<T>);
     }
     return m;
 }
@@ -265,23 +297,6 @@ TEST(TrigKernelF32, SplitOfHalfPi) {
     EXPECT_FALSE(detail::trig_f32_kernel_applies(std::nanf("")));
 }
 
-std::string check_point_f32(float x) {
-    std::string m;
-    for (const bool cosine : {false, true}) {
-        float b[2];
-        {
-            RoundingScope up;
-            detail::trig_f32_point_bounds(x, cosine, b);
-        }
-        const MpfrInterval v(static_cast<double>(x));
-        std::ostringstream what;
-        what.precision(10);
-        what << (cosine ? "binary32 cos " : "binary32 sin ") << x;
-        m += within(b[0], b[1], cosine ? cos(v) : sin(v), what.str(), kBinary32);
-    }
-    return m;
-}
-
 TEST(TrigKernelF32, PointBoundsAtChosenPoints) {
     std::vector<float> xs = {0.0f,  -0.0f,   1e-45f, -1e-45f, 1e-30f, 1e-8f,  0.5f,
                              0.78f, 0.7854f, 1.0f,   -1.0f,   2.0f,   3.0f,   3.1416f,
@@ -295,7 +310,7 @@ TEST(TrigKernelF32, PointBoundsAtChosenPoints) {
             if (detail::trig_f32_kernel_applies(x)) xs.push_back(x);
         }
     }
-    for (float x : xs) EXPECT_EQ(check_point_f32(x), "");
+    for (float x : xs) EXPECT_EQ(check_point(x), "");
 }
 
 RC_GTEST_PROP(TrigKernelF32, PointBoundsAtRandomPoints, ()) {
@@ -312,27 +327,7 @@ RC_GTEST_PROP(TrigKernelF32, PointBoundsAtRandomPoints, ()) {
             (*rc::gen::arbitrary<bool>() ? 1.0f : -1.0f);
     }
     RC_PRE(detail::trig_f32_kernel_applies(x));
-    RC_ASSERT(check_point_f32(x) == "");
-}
-
-/// sin and cos of [l, u] by the binary32 kernel: they enclose MPFR's range and lie within the
-/// tolerance of it.
-std::string check_interval_f32(float l, float u) {
-    std::string m;
-    for (const bool sine : {true, false}) {
-        float b[2];
-        {
-            RoundingScope up;
-            detail::trig_f32_interval_bounds(l, u, sine, b);
-        }
-        const MpfrInterval range = MpfrInterval(static_cast<double>(l), static_cast<double>(u));
-        const MpfrInterval exact = sine ? sin(range) : cos(range);
-        std::ostringstream what;
-        what.precision(10);
-        what << (sine ? "binary32 sin [" : "binary32 cos [") << l << ", " << u << "]";
-        m += within(b[0], b[1], exact, what.str(), kBinary32);
-    }
-    return m;
+    RC_ASSERT(check_point(x) == "");
 }
 
 RC_GTEST_PROP(TrigKernelF32, IntervalsEncloseTheRange, ()) {
@@ -356,7 +351,7 @@ RC_GTEST_PROP(TrigKernelF32, IntervalsEncloseTheRange, ()) {
     }
     const float u = l + width;  // rounded to nearest: any u ≥ l
     RC_PRE(detail::trig_f32_kernel_applies(l) && detail::trig_f32_kernel_applies(u));
-    RC_ASSERT(check_interval_f32(l, u) == "");
+    RC_ASSERT(check_interval(l, u) == "");
 }
 
 TEST(TrigKernelF32, IntervalsAtTheEdges) {
@@ -364,7 +359,7 @@ TEST(TrigKernelF32, IntervalsAtTheEdges) {
     const float cases[][2] = {{0, 0},           {-0.0f, 0.0f},     {-1, 1},          {0, pi},
                               {-pi, pi},        {pi / 2, pi / 2},  {1, 1 + 2 * pi},  {1, 1 + 6.28f},
                               {0x1p9f, 0x1p9f}, {-0x1p9f, 0x1p9f}, {1e-45f, 1e-30f}, {2, 2}};
-    for (const auto& c : cases) EXPECT_EQ(check_interval_f32(c[0], c[1]), "");
+    for (const auto& c : cases) EXPECT_EQ(check_interval(c[0], c[1]), "");
     float b[2];
     {
         RoundingScope up;
