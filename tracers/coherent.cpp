@@ -38,6 +38,7 @@ namespace certray::tracers {
 namespace {
 
 using Ssa = std::vector<expr::Instr>;
+using Box = std::array<UpInterval, 3>;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Deepest node: past it a node is a leaf whatever its size (the solver bisects further).
@@ -349,6 +350,12 @@ class Walker {
     /// Solid: every open ray of r that meets [a, b] enters {f < 0} at its first parameter in
     /// [a, b] (the box there is proven inside, and g ≥ 0 is proven before): a Hit [t, t].
     void inside(const Rect& r, double a, double b, const Ssa& list);
+    /// For the heightmap camera: true when the root tile r is proven free on its whole depth by
+    /// one box evaluation over its rays (counted), without building its rays.
+    bool ortho_tile_free(const Rect& r);
+    /// The box over which ortho_tile_free() left the full tape's enclosures in levels_[0] (the
+    /// root node's, which node() then takes instead of walking the tape again).
+    std::optional<Box> root_box_;
     /// The mean value form over the box: F(c) + Σ G_i·(X_i − c_i), with G the gradient
     /// enclosure over the box X and c its centre; empty when it does not apply (f not proven
     /// defined and continuous on the box, or an unbounded gradient).
@@ -415,11 +422,26 @@ class Walker {
     /// Writes the answer `res` of pixel (i, j) on its ray and closes the pixel.
     /// A Hit's normal is the gradient of `list` at the hit when its t lies in [a, b] (`list`
     /// equals f there, and so do its derivatives: the walk prunes without folding points,
-    /// PruneWorkspace::fold_points), else of the full tape. Where `list` is the list of the scan in
-    /// progress (defer_list_) and batch_normals is on, the normal waits for flush_normals(),
-    /// with the scan's other hits.
+    /// PruneWorkspace::fold_points), else of the full tape. Where `list` is the list of the scan
+    /// or inside box in progress (defer_list_, DeferNormals), the normal waits for
+    /// flush_normals(), with the other hits on it.
     void answer(unsigned i, unsigned j, Px& p, const RayResult& res, const Ssa& list, double a,
                 double b);
+    /// While one is in scope, the hits answered on `list` wait for their normals (when
+    /// batch_normals is on); its end computes them and restores the enclosing scope's list.
+    struct DeferNormals {
+        Walker& w;
+        const Ssa* outer;
+        DeferNormals(Walker& walker, const Ssa& list) : w(walker), outer(walker.defer_list_) {
+            w.defer_list_ = w.options_.batch_normals ? &list : nullptr;
+        }
+        DeferNormals(const DeferNormals&) = delete;
+        DeferNormals& operator=(const DeferNormals&) = delete;
+        ~DeferNormals() {
+            w.flush_normals();
+            w.defer_list_ = outer;
+        }
+    };
     /// The normals of the hits answer() left waiting: one walk of Dual<double, 3> lanes of their
     /// list over their points (expr/eval_dual_batch.h: each the same bits as a walk of its own).
     void flush_normals();
@@ -806,7 +828,7 @@ void Walker::tile(const Rect& r) {
     segment_forms_.reset();
     plain_tried_ = plain_free_ = 0;
     fold_trial_.reset();
-    px_.assign(std::size_t{r.w} * r.h, Px{});
+    root_box_.reset();
     for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {  // a miss until answered
         const std::size_t row = std::size_t{j} * ans_.width;
         for (std::size_t k = row + r.i0; k < row + r.i0 + r.w; ++k) {
@@ -816,6 +838,8 @@ void Walker::tile(const Rect& r) {
             ans_.normal[k] = {0.f, 0.f, 0.f};
         }
     }
+    if (rays_.projection() == Projection::Ortho && ortho_tile_free(r)) return;
+    px_.assign(std::size_t{r.w} * r.h, Px{});
     double a = kInf, b = -kInf;
     {
         NearestScope env;  // one switch for the tile's rays
@@ -839,6 +863,40 @@ void Walker::tile(const Rect& r) {
         node(r, a, b, tape_.ssa(), &tape_, 0);
     }
     // Open rays left are proven free of zeros on their whole segment: Misses (the default).
+}
+
+bool Walker::ortho_tile_free(const Rect& r) {
+    // A heightmap's rays are a grid, each in scope over the same [0, tmax] straight down: the
+    // hull of the tile's rays is that of its corner rays (the coordinates PixelRays computes are
+    // monotone in i and j), and the box over the whole depth is the root node's. Where f is
+    // proven free of the surface on it, the tile is answered without building its rays.
+    Ray c0, c1;
+    {
+        NearestScope env;  // as tile() builds the rays
+        if (!rays_.ray_in_scope(r.i0, r.j0, c0) ||
+            !rays_.ray_in_scope(r.i0 + r.w - 1, r.j0 + r.h - 1, c1)) {
+            return false;
+        }
+    }
+    double olo[3], ohi[3];
+    for (int c = 0; c < 3; ++c) {
+        olo[c] = std::min(c0.o[c], c1.o[c]);
+        ohi[c] = std::max(c0.o[c], c1.o[c]);
+    }
+    const double a = std::min(c0.tmin, c1.tmin), b = std::max(c0.tmax, c1.tmax);
+    const Ssa& list = tape_.ssa();
+    Level& level = levels_[0];
+    if (level.values.size() < list.size()) level.values.resize(list.size());
+    RoundingScope up;
+    root_box_ = segment_box(olo, ohi, c0.d.data(), c0.d.data(), a, b);
+    expr::detail::run<UpInterval>(list, *root_box_, level.values.data());
+    ++stats.box_evals;
+    stats.box_instructions += list.size();
+    ++evals.interval;
+    if (proof(level.values[list.back().out]) != Proof::Excluded) return false;  // node() goes on
+    root_box_.reset();
+    ++stats.boxes_excluded;
+    return true;
 }
 
 void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
@@ -906,12 +964,24 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
 
     // The box [o] + [a, b]·[d] holds o + t·d for every such ray and t in [a, b] (rounded outward).
     Level& level = levels_[depth];
-    if (level.values.size() < list.size()) level.values.resize(list.size());
-    expr::detail::run<UpInterval>(list, segment_box(olo, ohi, dlo, dhi, a, b), level.values.data());
+    const Box box = segment_box(olo, ohi, dlo, dhi, a, b);
+    const auto same = [](const Box& x, const Box& y) {
+        for (int c = 0; c < 3; ++c) {
+            if (x[c].lower() != y[c].lower() || x[c].upper() != y[c].upper()) return false;
+        }
+        return true;
+    };
+    if (depth == 0 && list.data() == tape_.ssa().data() && root_box_ && same(*root_box_, box)) {
+        // ortho_tile_free() evaluated the full tape over this box into level.values.
+    } else {
+        if (level.values.size() < list.size()) level.values.resize(list.size());
+        expr::detail::run<UpInterval>(list, box, level.values.data());
+        ++stats.box_evals;
+        stats.box_instructions += list.size();
+        ++evals.interval;
+    }
+    root_box_.reset();
     const UpInterval f = level.values[list.back().out];
-    ++stats.box_evals;
-    stats.box_instructions += list.size();
-    ++evals.interval;
     // Zero: 0 ∉ F (or f undefined on the whole box), no ray meets f = 0 here. Solid: F ≥ 0, no
     // ray enters {f < 0} here; or F < 0, every ray enters at its first point in the box.
     Proof proven = proof(f);
@@ -1273,15 +1343,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
                            bool folded_only) {
     // The hits of this scan wait for their normals until it returns (a nested scan's own hits
     // until that one returns).
-    struct Defer {
-        Walker& w;
-        const Ssa* outer;
-        ~Defer() {
-            w.flush_normals();
-            w.defer_list_ = outer;
-        }
-    } defer{*this, defer_list_};
-    defer_list_ = options_.batch_normals ? &list : nullptr;
+    const DeferNormals defer(*this, list);
     // The rays' segments; none scanned if one is too long.
     segments_.clear();
     double w_tile = kInf;  // the narrowest piece width
@@ -1917,6 +1979,7 @@ std::size_t Walker::decide_monotone(const Ssa& list, Level& level) {
 }
 
 void Walker::inside(const Rect& r, double a, double b, const Ssa& list) {
+    const DeferNormals defer(*this, list);  // the box's hits, a walk of lanes per 16
     for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
         for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
             Px& p = px(i, j);
@@ -1956,7 +2019,7 @@ void Walker::answer(unsigned i, unsigned j, Px& p, const RayResult& res, const S
         out.evals += before;
     }
     if (res.status != Status::Hit) return;
-    const bool on_list = a <= res.t && res.t <= b && list.size() < tape_.size();
+    const bool on_list = a <= res.t && res.t <= b;
     if (on_list && &list == defer_list_) {
         if (pending_ > 0 && pending_list_ != &list) flush_normals();
         pending_list_ = &list;
@@ -1969,7 +2032,7 @@ void Walker::answer(unsigned i, unsigned j, Px& p, const RayResult& res, const S
     NearestInUpward env;  // as render_3d computes the normal (the walk holds its upward scope)
     const Vec3 q = point_at(ray, res.t);
     Dual<double, 3> g;
-    if (on_list) {
+    if (on_list && list.size() < tape_.size()) {
         // The pruned list, much shorter than the tape (a tenth on Fidget's colonnade).
         g = list_gradient(list, q);
     } else {
@@ -2122,6 +2185,27 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
     std::atomic<std::size_t> next{0};
     std::vector<CoherentStats> walk_stats(workers);
     std::vector<EvalCounts> sums(workers);
+    std::vector<RenderStats> counts(workers);
+    // A pixel's colour in a local AOV is its own answer's: each worker colours its tiles as it
+    // answers them (while they are in its cache) instead of a pass over the image afterwards.
+    const Aov aov = options.render.aov;
+    const bool colour_tiles = aov_is_local(aov);
+    const AovScale scale = aov_scale(ans, aov, options.render.light);
+    if (colour_tiles)
+        result.image = RgbImage(ans.width, ans.height, boost::container::default_init);
+    // The tile's pixels counted (and coloured) once the walk has answered them.
+    const auto finish = [&](const Rect& r, RenderStats& c) {
+        for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
+            const std::size_t row = std::size_t{j} * ans.width;
+            for (std::size_t k = row + r.i0; k < row + r.i0 + r.w; ++k) {
+                c.hit += ans.status[k] == Status::Hit;
+                c.miss += ans.status[k] == Status::Miss;
+                c.unknown += ans.status[k] == Status::Unknown;
+                c.max_pixel_evals = std::max(c.max_pixel_evals, ans.evals[k]);
+            }
+            if (colour_tiles) colorize_span(ans, aov, scale, j, r.i0, r.i0 + r.w, result.image);
+        }
+    };
     WorkProgress* progress = options.render.progress;
     if (progress) progress->total.store(tiles, std::memory_order_relaxed);
 
@@ -2135,8 +2219,10 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
                 if (t >= tiles) break;
                 const unsigned i0 = static_cast<unsigned>(t % tiles_x) * side;
                 const unsigned j0 = static_cast<unsigned>(t / tiles_x) * side;
-                walker.tile(
-                    {i0, j0, std::min(side, ans.width - i0), std::min(side, ans.height - j0)});
+                const Rect r{i0, j0, std::min(side, ans.width - i0),
+                             std::min(side, ans.height - j0)};
+                walker.tile(r);
+                finish(r, counts[w]);
                 if (progress) progress->done.fetch_add(1, std::memory_order_relaxed);
             }
             walk_stats[w] = walker.stats;
@@ -2152,6 +2238,10 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
     total.tape_length = tape.size();
     for (unsigned w = 0; w < workers; ++w) {
         st.evals += sums[w];
+        st.hit += counts[w].hit;
+        st.miss += counts[w].miss;
+        st.unknown += counts[w].unknown;
+        st.max_pixel_evals = std::max(st.max_pixel_evals, counts[w].max_pixel_evals);
         const CoherentStats& s = walk_stats[w];
         total.box_evals += s.box_evals;
         total.box_instructions += s.box_instructions;
@@ -2174,14 +2264,10 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.folded_instructions += s.folded_instructions;
         total.folded_scans += s.folded_scans;
     }
-    for (std::size_t k = 0; k < pixels; ++k) {
-        st.hit += ans.status[k] == Status::Hit;
-        st.miss += ans.status[k] == Status::Miss;
-        st.unknown += ans.status[k] == Status::Unknown;
-        st.max_pixel_evals = std::max(st.max_pixel_evals, ans.evals[k]);
-    }
     if (stats != nullptr) *stats = total;
-    result.image = colorize(ans, options.render.aov, options.render.light, options.render.threads);
+    if (!colour_tiles) {
+        result.image = colorize(ans, aov, options.render.light, options.render.threads);
+    }
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }

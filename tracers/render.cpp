@@ -5,10 +5,16 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <exception>
 #include <mutex>
+#include <new>
 #include <optional>
 #include <thread>
+
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
 
 #include "expr/derived.h"
 #include "tracers/cone.h"
@@ -16,6 +22,25 @@
 #include "tracers/region_tapes.h"
 
 namespace certray::tracers {
+
+void* allocate_pixels(std::size_t bytes) {
+    constexpr std::size_t kHuge = std::size_t{2} << 20;
+    if (bytes >= kHuge) {
+        const std::size_t size = (bytes + kHuge - 1) / kHuge * kHuge;
+        void* p = std::aligned_alloc(kHuge, size);
+        if (p == nullptr) throw std::bad_alloc();
+#ifdef __linux__
+        madvise(p, size, MADV_HUGEPAGE);  // a hint: where huge pages are off, nothing changes
+#endif
+        return p;
+    }
+    void* p = std::malloc(std::max<std::size_t>(bytes, 1));
+    if (p == nullptr) throw std::bad_alloc();
+    return p;
+}
+
+void free_pixels(void* p) { std::free(p); }
+
 namespace {
 
 constexpr unsigned kTile = 16;
@@ -96,80 +121,100 @@ void draw_legend(RgbImage& img, Aov aov) {
 
 }  // namespace
 
-RgbImage colorize(const PixelAnswers& ans, Aov aov, const Vec3& light, unsigned threads) {
-    RgbImage img(ans.width, ans.height);
-    const Vec3 l = normalize(light);
-    double tmin = std::numeric_limits<double>::infinity(), tmax = -tmin;
-    std::uint64_t emax = 0;
-    for (std::size_t k = 0; k < ans.status.size() && (aov == Aov::Depth || aov == Aov::Steps);
-         ++k) {
+bool aov_is_local(Aov aov) { return aov != Aov::Depth && aov != Aov::Steps; }
+
+AovScale aov_scale(const PixelAnswers& ans, Aov aov, const Vec3& light) {
+    AovScale sc;
+    sc.light = normalize(light);
+    for (std::size_t k = 0; k < ans.status.size() && !aov_is_local(aov); ++k) {
         if (ans.status[k] == Status::Hit) {  // the ranges the depth and steps ramps need
-            tmin = std::min(tmin, ans.t[k]);
-            tmax = std::max(tmax, ans.t[k]);
+            sc.tmin = std::min(sc.tmin, ans.t[k]);
+            sc.tmax = std::max(sc.tmax, ans.t[k]);
         }
-        emax = std::max(emax, ans.evals[k]);
+        sc.emax = std::max(sc.emax, ans.evals[k]);
     }
-    const double log_emax = std::log1p(static_cast<double>(emax));
-    // Rows dealt out to the workers: each pixel's colour is its own (a 512² image: 3.4 ms on one
-    // thread, after a render whose walk is threaded).
-    const unsigned workers = std::min(worker_count(threads), std::max(1u, ans.height / 32));
-    run_workers(workers, [&](unsigned w) {
-        for (unsigned j = w; j < ans.height; j += workers) {
-            for (unsigned i = 0; i < ans.width; ++i) {
-                const std::size_t k = std::size_t{j} * ans.width + i;
-                const Status s = ans.status[k];
+    sc.log_emax = std::log1p(static_cast<double>(sc.emax));
+    return sc;
+}
+
+void colorize_span(const PixelAnswers& ans, Aov aov, const AovScale& sc, unsigned j, unsigned i0,
+                   unsigned i1, RgbImage& img) {
+    const Vec3& l = sc.light;
+    if (aov == Aov::Shade) {  // the common case: a miss's colour is its row's, in bytes once
+        double r, g, b;
+        background(j, ans.height, r, g, b);
+        const std::uint8_t sky[3] = {to_byte(r), to_byte(g), to_byte(b)};
+        for (unsigned i = i0; i < i1; ++i) {
+            const std::size_t k = std::size_t{j} * ans.width + i;
+            const Status s = ans.status[k];
+            if (s == Status::Miss) {
+                img.set(i, j, sky[0], sky[1], sky[2]);
+            } else if (s == Status::Hit) {
                 const auto& n = ans.normal[k];
-                double r = 0, g = 0, b = 0;
-                switch (aov) {
-                    case Aov::Shade:
-                        if (s == Status::Hit) {
-                            const double lambert =
-                                std::max(0.0, n[0] * l[0] + n[1] * l[1] + n[2] * l[2]);
-                            const double c = 0.18 + 0.82 * lambert;
-                            r = 0.92 * c;
-                            g = 0.86 * c;
-                            b = 0.74 * c;
-                        } else if (s == Status::Miss) {
-                            background(j, ans.height, r, g, b);
-                        } else {
-                            r = 1, g = 0, b = 1;
-                        }
-                        break;
-                    case Aov::Depth:
-                        if (s == Status::Hit) {
-                            const double d = tmax > tmin ? (ans.t[k] - tmin) / (tmax - tmin) : 0.0;
-                            r = g = b = 1.0 - 0.85 * d;
-                        } else if (s == Status::Unknown) {
-                            r = 1, g = 0, b = 1;
-                        }
-                        break;
-                    case Aov::Steps:
-                        ramp(log_emax > 0 ? std::log1p(static_cast<double>(ans.evals[k])) / log_emax
-                                          : 0.0,
-                             r, g, b);
-                        break;
-                    case Aov::Normal:
-                        if (s == Status::Hit) {
-                            r = 0.5 * (n[0] + 1), g = 0.5 * (n[1] + 1), b = 0.5 * (n[2] + 1);
-                        } else if (s == Status::Unknown) {
-                            r = 1, g = 0, b = 1;
-                        }
-                        break;
-                    case Aov::Status:
-                        if (s == Status::Hit) {
-                            r = g = b = 1;
-                        } else if (s == Status::Miss) {
-                            r = 0.05, g = 0.08, b = 0.35;
-                        } else {
-                            r = 1, g = 0, b = 1;
-                        }
-                        break;
-                }
-                put(img, i, j, r, g, b);
+                const double lambert = std::max(0.0, n[0] * l[0] + n[1] * l[1] + n[2] * l[2]);
+                const double c = 0.18 + 0.82 * lambert;
+                put(img, i, j, 0.92 * c, 0.86 * c, 0.74 * c);
+            } else {
+                img.set(i, j, 255, 0, 255);
             }
         }
+        return;
+    }
+    for (unsigned i = i0; i < i1; ++i) {
+        const std::size_t k = std::size_t{j} * ans.width + i;
+        const Status s = ans.status[k];
+        const auto& n = ans.normal[k];
+        double r = 0, g = 0, b = 0;
+        switch (aov) {
+            case Aov::Shade:  // above
+                break;
+            case Aov::Depth:
+                if (s == Status::Hit) {
+                    const double d =
+                        sc.tmax > sc.tmin ? (ans.t[k] - sc.tmin) / (sc.tmax - sc.tmin) : 0.0;
+                    r = g = b = 1.0 - 0.85 * d;
+                } else if (s == Status::Unknown) {
+                    r = 1, g = 0, b = 1;
+                }
+                break;
+            case Aov::Steps:
+                ramp(sc.log_emax > 0 ? std::log1p(static_cast<double>(ans.evals[k])) / sc.log_emax
+                                     : 0.0,
+                     r, g, b);
+                break;
+            case Aov::Normal:
+                if (s == Status::Hit) {
+                    r = 0.5 * (n[0] + 1), g = 0.5 * (n[1] + 1), b = 0.5 * (n[2] + 1);
+                } else if (s == Status::Unknown) {
+                    r = 1, g = 0, b = 1;
+                }
+                break;
+            case Aov::Status:
+                if (s == Status::Hit) {
+                    r = g = b = 1;
+                } else if (s == Status::Miss) {
+                    r = 0.05, g = 0.08, b = 0.35;
+                } else {
+                    r = 1, g = 0, b = 1;
+                }
+                break;
+        }
+        put(img, i, j, r, g, b);
+    }
+}
+
+RgbImage colorize(const PixelAnswers& ans, Aov aov, const Vec3& light, unsigned threads) {
+    RgbImage img(ans.width, ans.height, boost::container::default_init);  // every pixel written
+    const AovScale sc = aov_scale(ans, aov, light);
+    // A block of rows to each worker: each pixel's colour is its own (a 512² image: 3.4 ms on one
+    // thread, after a render whose walk is threaded), and each worker writes its own pages.
+    const unsigned workers = std::min(worker_count(threads), std::max(1u, ans.height / 32));
+    run_workers(workers, [&](unsigned w) {
+        const unsigned j0 = static_cast<unsigned>(std::uint64_t{ans.height} * w / workers);
+        const unsigned j1 = static_cast<unsigned>(std::uint64_t{ans.height} * (w + 1) / workers);
+        for (unsigned j = j0; j < j1; ++j) colorize_span(ans, aov, sc, j, 0, ans.width, img);
     });
-    if (aov == Aov::Depth || aov == Aov::Steps) draw_legend(img, aov);
+    if (!aov_is_local(aov)) draw_legend(img, aov);
     return img;
 }
 

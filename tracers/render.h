@@ -62,10 +62,33 @@ struct RenderStats {
     double seconds = 0;
 };
 
+/// Memory for a pixel buffer of `bytes` (PixelAllocator); throws std::bad_alloc.
+void* allocate_pixels(std::size_t bytes);
+void free_pixels(void* p);
+
+/// The allocator of pixel buffers: a buffer of 2 MiB or more is aligned to 2 MiB and marked for
+/// transparent huge pages (Linux; elsewhere an ordinary allocation), so that a large image's
+/// first touch takes a fault per 2 MiB instead of one per 4 KiB page (on a 1024² image the
+/// faults, taken by two threads at once, had been most of the time of an image with nothing in
+/// it).
+template <class T>
+struct PixelAllocator {
+    using value_type = T;
+    PixelAllocator() = default;
+    template <class U>
+    PixelAllocator(const PixelAllocator<U>&) {}
+    T* allocate(std::size_t n) { return static_cast<T*>(allocate_pixels(n * sizeof(T))); }
+    void deallocate(T* p, std::size_t) { free_pixels(p); }
+    template <class U>
+    bool operator==(const PixelAllocator<U>&) const {
+        return true;
+    }
+};
+
 /// A pixel buffer: a vector that resize(n, boost::container::default_init) leaves unwritten, so
 /// that a threaded renderer's workers write (and first touch) their own tiles.
 template <class T>
-using PixelBuffer = boost::container::vector<T>;
+using PixelBuffer = boost::container::vector<T, PixelAllocator<T>>;
 
 /// The answers of every pixel (row-major, top row first), before colouring.
 struct PixelAnswers {
@@ -95,6 +118,26 @@ struct AovRange {
     double hi = -std::numeric_limits<double>::infinity();
 };
 AovRange aov_range(const PixelAnswers& answers, Aov aov);
+
+/// Whether a pixel's colour in `aov` is its own answer's alone (shade, normal, status), or also
+/// depends on the whole image's (depth and steps scale their ramps to its range).
+bool aov_is_local(Aov aov);
+
+/// What colorize_span needs besides a pixel's answer: the unit light, and for depth and steps
+/// the image's range.
+struct AovScale {
+    Vec3 light{0, 0, 1};
+    double tmin = std::numeric_limits<double>::infinity();
+    double tmax = -std::numeric_limits<double>::infinity();
+    std::uint64_t emax = 0;
+    double log_emax = 0;
+};
+/// The scale of `answers` (for an AOV that is local, the light alone).
+AovScale aov_scale(const PixelAnswers& answers, Aov aov, const Vec3& light);
+/// Colours pixels i0 … i1 − 1 of row j into img (of the answers' size) as colorize does, without
+/// the colour bar; a renderer that colours its tiles as it answers them calls it for a local AOV.
+void colorize_span(const PixelAnswers& answers, Aov aov, const AovScale& scale, unsigned j,
+                   unsigned i0, unsigned i1, RgbImage& img);
 
 /// Colours answers as `aov` (used by render_3d; exposed to recolour without re-tracing). Depth and
 /// steps images carry a colour bar at the bottom right (least value left, greatest right; the

@@ -2,8 +2,8 @@
 // tracers/png_io.h writes and reads it as PNG.
 #pragma once
 
+#include <boost/container/vector.hpp>
 #include <cstdint>
-#include <vector>
 
 namespace certray::tracers {
 
@@ -11,11 +11,15 @@ namespace certray::tracers {
 struct RgbImage {
     unsigned width = 0;
     unsigned height = 0;
-    std::vector<std::uint8_t> rgb;  ///< width·height·3 bytes
+    boost::container::vector<std::uint8_t> rgb;  ///< width·height·3 bytes
 
     RgbImage() = default;
     /// A black image of the given size.
     RgbImage(unsigned w, unsigned h) : width(w), height(h), rgb(std::size_t{w} * h * 3, 0) {}
+    /// An image of the given size whose bytes are left unwritten, for a writer of every pixel
+    /// (whose threads then first touch their own rows).
+    RgbImage(unsigned w, unsigned h, boost::container::default_init_t)
+        : width(w), height(h), rgb(std::size_t{w} * h * 3, boost::container::default_init) {}
 
     /// The three bytes of pixel (i, j), j = 0 the top row.
     std::uint8_t* at(unsigned i, unsigned j) {

@@ -656,20 +656,63 @@ TEST(Coherent, WideBoxFormsOnSmoothListsKeepTheAnswers) {
     }
 }
 
+/// Each worker colours its tiles as it answers them (shade, normal, status) and counts their
+/// pixels: the image is colorize()'s of the answers, for every AOV, and the counts are the
+/// answers', whatever the tiles (an image not a multiple of the root tile) and threads.
+TEST(Coherent, ImageAndCountsAreThoseOfTheAnswers) {
+    const expr::Tape tape(expr::parse_expr("(x^2 + y^2 + z^2 + 0.84)^2 - 4*(x^2 + y^2)"));
+    for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
+        for (Aov aov : {Aov::Shade, Aov::Depth, Aov::Steps, Aov::Normal, Aov::Status}) {
+            for (unsigned threads : {1u, 3u}) {
+                CoherentOptions o = small_view(p);
+                o.render.width = 37;
+                o.render.height = 29;
+                o.render.aov = aov;
+                o.render.threads = threads;
+                o.depth_pixels = 0.5;
+                const RenderResult r = render_3d_coherent(tape, o);
+                const RgbImage want = colorize(r.answers, aov, o.render.light, 1);
+                EXPECT_EQ(r.image.width, want.width);
+                EXPECT_EQ(r.image.height, want.height);
+                EXPECT_TRUE(r.image.rgb == want.rgb) << "aov " << static_cast<int>(aov);
+                std::uint64_t hit = 0, miss = 0, unknown = 0, most = 0;
+                for (std::size_t k = 0; k < r.answers.status.size(); ++k) {
+                    hit += r.answers.status[k] == Status::Hit;
+                    miss += r.answers.status[k] == Status::Miss;
+                    unknown += r.answers.status[k] == Status::Unknown;
+                    most = std::max(most, r.answers.evals[k]);
+                }
+                EXPECT_EQ(r.stats.hit, hit);
+                EXPECT_EQ(r.stats.miss, miss);
+                EXPECT_EQ(r.stats.unknown, unknown);
+                EXPECT_EQ(r.stats.max_pixel_evals, most);
+                EXPECT_GT(hit, 0u);
+                EXPECT_GT(miss, 0u);
+            }
+        }
+    }
+}
+
 /// Hit normals are render_3d's: the unit gradient of the full tape at the hit (expr::gradient,
 /// normalised in round-to-nearest), facing the ray, bit for bit; with batch_normals (a scan's hits
 /// in one walk of Dual lanes) and without. (They come from the pruned lists, whose pruning once
 /// folded a heightmap ray's x and y, points on its box, into constants without derivatives.)
+/// The solid surface's boxes proven inside answer their rays at once; their normals too.
 TEST(Coherent, HitNormalsAreRender3dNormalsBatchedOrNot) {
-    std::size_t hits = 0;
+    std::size_t hits = 0, boxes_inside = 0;
     for (const fs::path& scene : gallery()) {
         const expr::Tape tape(expr::load_graph_file(scene.string()));
-        for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
+        for (auto [p, surface] : {std::pair{Projection::Pinhole, Surface::Zero},
+                                  std::pair{Projection::Ortho, Surface::Zero},
+                                  std::pair{Projection::Ortho, Surface::Solid}}) {
             for (bool batch : {true, false}) {
                 CoherentOptions o = small_view(p);
+                o.surface = surface;
                 o.depth_pixels = 0.5;  // scans of rays in lanes, as the CLI's images
                 o.batch_normals = batch;
-                const RenderResult r = render_3d_coherent(tape, o);
+                CoherentStats stats;
+                const RenderResult r = render_3d_coherent(tape, o, &stats);
+                boxes_inside += stats.boxes_inside;
                 const PixelRays rays(o);
                 std::size_t k = 0;
                 for (unsigned j = 0; j < o.render.height; ++j) {
@@ -687,8 +730,9 @@ TEST(Coherent, HitNormalsAreRender3dNormalsBatchedOrNot) {
                         for (int c = 0; c < 3; ++c) {
                             EXPECT_EQ(std::bit_cast<std::uint32_t>(r.answers.normal[k][c]),
                                       std::bit_cast<std::uint32_t>(static_cast<float>(want[c])))
-                                << scene << (batch ? " batched" : "") << " pixel (" << i << ", "
-                                << j << ") component " << c;
+                                << scene << (batch ? " batched" : "")
+                                << (surface == Surface::Solid ? " solid" : "") << " pixel (" << i
+                                << ", " << j << ") component " << c;
                         }
                     }
                 }
@@ -696,6 +740,7 @@ TEST(Coherent, HitNormalsAreRender3dNormalsBatchedOrNot) {
         }
     }
     EXPECT_GT(hits, 1000u);
+    EXPECT_GT(boxes_inside, 100u);
 }
 
 TEST(Coherent, OrthoRaysAreTheHeightmapRays) {

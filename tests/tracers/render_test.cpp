@@ -169,6 +169,55 @@ TEST(Render, ShadeFollowsLambert) {
     EXPECT_GT(centre[0], r.image.at(rim, 16)[0] + 20);
 }
 
+/// The shade AOV, by hand: a hit is (0.92, 0.86, 0.74)·(0.18 + 0.82·max(0, n·l)), a miss its row's
+/// sky (0.62 − 0.35s, 0.70 − 0.35s, 0.82 − 0.30s at s = row / (rows − 1)), an unknown magenta;
+/// each channel as the byte ⌊255v + 0.5⌋.
+TEST(Render, ShadeColoursByHand) {
+    PixelAnswers a;
+    a.width = 2;
+    a.height = 3;
+    a.status = {Status::Hit, Status::Miss, Status::Hit, Status::Unknown, Status::Miss, Status::Hit};
+    a.t.resize(6, 1.0);
+    a.evals.resize(6, 0);
+    a.normal = {{0, 0, 1}, {0, 0, 0}, {0.6f, 0, 0.8f}, {0, 0, 0}, {0, 0, 0}, {0, 0, -1}};
+    const RgbImage img = colorize(a, Aov::Shade, {0, 0, 2}, 2);
+    const auto byte = [](double v) { return static_cast<int>(std::floor(255 * v + 0.5)); };
+    const auto expect = [&](unsigned i, unsigned j, double r, double g, double b) {
+        const std::uint8_t* p = img.at(i, j);
+        EXPECT_EQ(p[0], byte(r)) << "pixel (" << i << ", " << j << ")";
+        EXPECT_EQ(p[1], byte(g)) << "pixel (" << i << ", " << j << ")";
+        EXPECT_EQ(p[2], byte(b)) << "pixel (" << i << ", " << j << ")";
+    };
+    expect(0, 0, 0.92, 0.86, 0.74);  // n·l = 1
+    expect(1, 0, 0.62, 0.70, 0.82);  // the top row's sky
+    const double c = 0.18 + 0.82 * double{0.8f};
+    expect(0, 1, 0.92 * c, 0.86 * c, 0.74 * c);
+    expect(1, 1, 1, 0, 1);
+    expect(0, 2, 0.62 - 0.35, 0.70 - 0.35, 0.82 - 0.30);  // the bottom row's sky
+    expect(1, 2, 0.92 * 0.18, 0.86 * 0.18, 0.74 * 0.18);  // facing away: ambient only
+}
+
+/// Pixel buffers of 2 MiB and more are aligned to 2 MiB (for transparent huge pages) and hold
+/// what is written; small ones are ordinary.
+TEST(Render, PixelBuffersHoldWhatIsWritten) {
+    for (std::size_t n :
+         {std::size_t{1}, std::size_t{1000}, std::size_t{1} << 18, (std::size_t{3} << 18) + 5}) {
+        PixelBuffer<double> b;
+        b.resize(n, boost::container::default_init);
+        ASSERT_EQ(b.size(), n);
+        if (n * sizeof(double) >= (std::size_t{2} << 20)) {
+            EXPECT_EQ(reinterpret_cast<std::uintptr_t>(b.data()) % (std::size_t{2} << 20), 0u);
+        }
+        for (std::size_t k = 0; k < n; ++k) b[k] = static_cast<double>(k);
+        PixelBuffer<double> copy = b;
+        b.resize(n + 1, 0.0);
+        for (std::size_t k = 0; k < n; ++k) ASSERT_EQ(b[k], static_cast<double>(k));
+        EXPECT_EQ(b[n], 0.0);
+        EXPECT_EQ(copy.size(), n);
+        EXPECT_EQ(copy[n - 1], static_cast<double>(n - 1));
+    }
+}
+
 TEST(Render, ThreadsGiveTheSameAnswers) {
     RenderOptions o = sphere_view();
     o.threads = 1;
