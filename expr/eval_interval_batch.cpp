@@ -783,8 +783,8 @@ WalkFn walk_for(BatchIsa isa) noexcept {
     return walk_baseline;
 }
 
-// The binary32 walks: SSE2's four lanes, AVX2's eight (AVX-512 machines take AVX2's); the ops
-// without a vector kernel through the double walk of the same instruction set.
+// The binary32 walks: SSE2's four lanes, AVX2's eight, AVX-512's sixteen; the ops without a
+// vector kernel through the double walk of the same instruction set.
 using WalkFnF = void (*)(const Instr*, const Instr*, const LanesF*, LanesF*, int);
 
 [[gnu::flatten]] void walk_f32_baseline(const Instr* in, const Instr* end, const LanesF* p,
@@ -796,8 +796,21 @@ using WalkFnF = void (*)(const Instr*, const Instr*, const LanesF*, LanesF*, int
     walk<IvAvx2F, LanesF>(in, end, p, r, n, walk_avx2);
 }
 
+[[gnu::target("avx512f"), gnu::flatten]] void walk_f32_avx512(const Instr* in, const Instr* end,
+                                                              const LanesF* p, LanesF* r, int n) {
+    walk<IvAvx512F, LanesF>(in, end, p, r, n, walk_avx512);
+}
+
 WalkFnF walk_f32_for(BatchIsa isa) noexcept {
-    return isa == BatchIsa::Baseline ? walk_f32_baseline : walk_f32_avx2;
+    switch (isa) {
+        case BatchIsa::Baseline:
+            return walk_f32_baseline;
+        case BatchIsa::Avx2:
+            return walk_f32_avx2;
+        case BatchIsa::Avx512:
+            return walk_f32_avx512;
+    }
+    return walk_f32_baseline;
 }
 
 #else

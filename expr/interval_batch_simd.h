@@ -245,6 +245,69 @@ struct IvAvx512 : Avx512 {
         return _mm512_cmpeq_epi64_mask(_mm512_castpd_si512(a), _mm512_castpd_si512(b));
     }
 };
+
+// IvAvx2F's operations on sixteen binary32 lanes (AVX-512F: masks in k registers, the sign
+// operations by integer instructions, as IvAvx512's). No by_sign: a select by a sign bit takes two
+// instructions here, and the kernels' other path gives the same bits.
+struct IvAvx512F {
+    using R = __m512;
+    using M = __mmask16;
+    static constexpr int kWidth = 16;
+    CERTRAY_AVX512 static __m512i bits_of(R a) { return _mm512_castps_si512(a); }
+    CERTRAY_AVX512 static R of_bits(__m512i a) { return _mm512_castsi512_ps(a); }
+    CERTRAY_AVX512 static __m512i sign_bit() {
+        return _mm512_set1_epi32(static_cast<int>(0x80000000u));
+    }
+    CERTRAY_AVX512 static R load(const float* p) { return _mm512_loadu_ps(p); }
+    CERTRAY_AVX512 static void store(float* p, R x) { _mm512_storeu_ps(p, x); }
+    CERTRAY_AVX512 static R set1(double c) { return _mm512_set1_ps(static_cast<float>(c)); }
+    CERTRAY_AVX512 static R add(R a, R b) { return _mm512_add_ps(a, b); }
+    CERTRAY_AVX512 static R sub(R a, R b) { return _mm512_sub_ps(a, b); }
+    CERTRAY_AVX512 static R mul(R a, R b) { return _mm512_mul_ps(a, b); }
+    CERTRAY_AVX512 static R div(R a, R b) { return _mm512_div_ps(a, b); }
+    CERTRAY_AVX512 static R sqrt(R a) { return _mm512_sqrt_ps(a); }
+    CERTRAY_AVX512 static R neg(R a) { return of_bits(_mm512_xor_si512(bits_of(a), sign_bit())); }
+    CERTRAY_AVX512 static R sign_of(R a) {
+        return of_bits(_mm512_and_si512(bits_of(a), sign_bit()));
+    }
+    CERTRAY_AVX512 static R flip(R a, R m) {
+        return of_bits(_mm512_xor_si512(bits_of(a), bits_of(m)));
+    }
+    CERTRAY_AVX512 static void log_split(R x, R& e, R& m) {  // as KernelSse2F's, sixteen lanes
+        using K = certray::detail::ExpKernelF32;
+        const __m512i b = bits_of(x);
+        const __m512i eb =
+            _mm512_add_epi32(_mm512_srli_epi32(b, 23), _mm512_set1_epi32(K::kPow2Bias));
+        const R big_e = _mm512_sub_ps(of_bits(eb), _mm512_set1_ps(K::kMagic));
+        const R f = of_bits(_mm512_or_si512(_mm512_and_si512(b, _mm512_set1_epi32(0x007fffff)),
+                                            _mm512_set1_epi32(0x3f800000)));
+        const __mmask16 big = _mm512_cmp_ps_mask(
+            f, _mm512_set1_ps(certray::detail::LogKernelF32::kSqrt2), _CMP_GE_OQ);
+        e = _mm512_mask_add_ps(big_e, big, big_e, _mm512_set1_ps(1.0f));
+        m = _mm512_mask_mul_ps(f, big, f, _mm512_set1_ps(0.5f));
+    }
+    CERTRAY_AVX512 static R pow2(R kd) {  // as KernelSse2F::pow2, sixteen lanes
+        using K = certray::detail::ExpKernelF32;
+        const __m512i b = bits_of(_mm512_add_ps(kd, _mm512_set1_ps(K::kMagic)));
+        return of_bits(_mm512_slli_epi32(_mm512_sub_epi32(b, _mm512_set1_epi32(K::kPow2Bias)), 23));
+    }
+    CERTRAY_AVX512 static R max(R a, R b) { return _mm512_max_ps(a, b); }
+    CERTRAY_AVX512 static R min(R a, R b) { return _mm512_min_ps(a, b); }
+    CERTRAY_AVX512 static R prev(R a) {
+        return of_bits(_mm512_sub_epi32(bits_of(a), _mm512_set1_epi32(1)));
+    }
+    CERTRAY_AVX512 static M le(R a, R b) { return _mm512_cmp_ps_mask(a, b, _CMP_LE_OQ); }
+    CERTRAY_AVX512 static M lt(R a, R b) { return _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ); }
+    CERTRAY_AVX512 static M eq(R a, R b) { return _mm512_cmp_ps_mask(a, b, _CMP_EQ_OQ); }
+    CERTRAY_AVX512 static M ord(R a, R b) { return _mm512_cmp_ps_mask(a, b, _CMP_ORD_Q); }
+    CERTRAY_AVX512 static M both(M a, M b) { return static_cast<M>(a & b); }
+    CERTRAY_AVX512 static M either(M a, M b) { return static_cast<M>(a | b); }
+    CERTRAY_AVX512 static R select(M m, R t, R f) { return _mm512_mask_blend_ps(m, f, t); }
+    CERTRAY_AVX512 static unsigned bits(M m) { return m; }
+    CERTRAY_AVX512 static unsigned same(R a, R b) {
+        return _mm512_cmpeq_epi32_mask(bits_of(a), bits_of(b));
+    }
+};
 #undef CERTRAY_AVX512
 #endif
 
