@@ -24,6 +24,7 @@
 
 #include "expr/derived.h"
 #include "expr/eval.h"
+#include "expr/eval_batch.h"
 #include "expr/eval_dual_batch.h"
 #include "expr/eval_interval_batch.h"
 #include "expr/prune.h"
@@ -212,7 +213,8 @@ class Walker {
           t_splits_(rays.projection() != Projection::Ortho || tape.uses_var(2)),
           levels_(kMaxDepth),
           tape_tangent_(expr::tangent_list(tape.ssa())),
-          float_lanes_(options.float_lanes && mostly_arithmetic(tape.ssa())) {
+          float_lanes_(options.float_lanes && mostly_arithmetic(tape.ssa())),
+          centre_lane_(expr::batch_isa() == expr::BatchIsa::Avx512) {
         if (rays.projection() != Projection::List && options.render.aov != Aov::Depth &&
             options.depth_pixels > 0) {
             // A pixel's footprint: its angle times t (pinhole), or its side (ortho).
@@ -312,9 +314,14 @@ class Walker {
     /// The four lanes of mean_value()'s form on a smooth list, in double (four lanes are half a
     /// binary32 vector): g[0..2] the gradient's components over the box x, g[3] the derivative
     /// along dc; false where the walk proves nothing (f not defined and continuous on x, an
-    /// unbounded component).
+    /// unbounded component). Where a vector of the double walk holds eight lanes (AVX-512) and
+    /// `centre` is given, its lane 4 walks the box c and *centre is f's enclosure there (the
+    /// tangent list's value lanes are the list's, bit for bit: the scalar walk's), in the same
+    /// vector instead of a scalar walk of the list; otherwise *centre is left empty.
     bool tangent_form_lanes(const expr::TangentList& tl, const std::array<UpInterval, 3>& x,
-                            const double* dc, UpInterval* g);
+                            const double* dc, UpInterval* g,
+                            const std::array<UpInterval, 3>* c = nullptr,
+                            UpInterval* centre = nullptr);
     /// level.folded for the scan in lanes of `sub` over `box`, from level.values: `sub` is the
     /// list the node evaluated into level.values, or level.list, that list pruned by the
     /// node's prune_ssa (prune_ws_ as it left it). The subexpressions narrower than kFoldWidth
@@ -572,6 +579,9 @@ class Walker {
     const std::optional<expr::TangentList> tape_tangent_;
     /// The walks in lanes in binary32 bounds (CoherentOptions::float_lanes).
     const bool float_lanes_;
+    /// The double walk's vectors hold eight lanes (AVX-512): the node's mean value form takes its
+    /// centre in the fifth lane of its tangent walk (tangent_form_lanes).
+    const bool centre_lane_;
     struct Piece {
         unsigned i, j;
         double p, q;
@@ -786,9 +796,12 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
         // 4%). Interval seeds O − oc and D − dc would lose the cancellations inside each component
         // (twice as wide on Barth's sextic), so those sums are taken over the components.
         UpInterval g[4];
-        if (!tangent_form_lanes(*tl, x, dc, g)) return none;
-        expr::detail::run<UpInterval>(list, c, centre_.data());
-        UpInterval m = centre_[list.back().out];
+        UpInterval m;
+        if (!tangent_form_lanes(*tl, x, dc, g, &c, &m)) return none;
+        if (!centre_lane_) {
+            expr::detail::run<UpInterval>(list, c, centre_.data());
+            m = centre_[list.back().out];
+        }
         if (m.is_empty() || !m.defined) return none;
         UpInterval across(0.0);
         for (int k = 0; k < 3; ++k) {
@@ -1134,24 +1147,35 @@ void Walker::settle(unsigned i, unsigned j, const Ray& s, RayResult res, bool sc
 }
 
 bool Walker::tangent_form_lanes(const expr::TangentList& tl, const std::array<UpInterval, 3>& x,
-                                const double* dc, UpInterval* g) {
+                                const double* dc, UpInterval* g, const std::array<UpInterval, 3>* c,
+                                UpInterval* centre) {
     LaneFile<expr::IntervalLanes>& file = d64_;
-    LaneBox boxes[4];
+    const bool with_centre = c != nullptr && centre_lane_;
+    const int lanes = with_centre ? 5 : 4;
+    LaneBox boxes[5];
     for (int k = 0; k < 3; ++k) {
         for (int l = 0; l < 4; ++l) {
             boxes[l].lo[k] = x[k].lower();
             boxes[l].hi[k] = x[k].upper();
         }
+        if (with_centre) {
+            boxes[4].lo[k] = (*c)[k].lower();
+            boxes[4].hi[k] = (*c)[k].upper();
+        }
     }
-    load_lanes(file, boxes, 4);
+    load_lanes(file, boxes, lanes);
     if (file.regs.size() < tl.slots) file.regs.resize(tl.slots);
     for (int k = 0; k < 3; ++k) {
         expr::IntervalLanes& seed = file.regs[tl.seed[k]];
         for (int l = 0; l < 3; ++l) expr::set_lane(seed, l, UpInterval(l == k ? 1.0 : 0.0));
         expr::set_lane(seed, 3, UpInterval(dc[k]));
+        if (with_centre) expr::set_lane(seed, 4, UpInterval(0.0));
     }
     expr::run_interval_batch(tl.list.data(), tl.list.data() + tl.list.size(), file.in.data(),
-                             file.regs.data(), 4);
+                             file.regs.data(), lanes);
+    if (centre != nullptr) {
+        *centre = with_centre ? expr::lane(file.regs[tl.value], 4) : UpInterval::empty();
+    }
     const UpInterval v = expr::lane(file.regs[tl.value], 0);
     if (v.is_empty() || !v.defined) return false;
     for (int l = 0; l < 4; ++l) {
