@@ -1104,9 +1104,17 @@ void Walker::settle(unsigned i, unsigned j, const Ray& s, RayResult res, bool sc
     };
     Px& p = px(i, j);
     ++stats.leaf_solves;
+    // Where the list has choices, an undecided segment is split with a tape pruned to each half
+    // (below) before the solver is tried on it: the scan has taken its pieces, points, forms and
+    // quarters, and the solver on the same list seldom decides more (Fidget's colonnade: 585 such
+    // rays, 185 evaluations each, none decided; the halves' prunes decide them).
+    const bool split_first =
+        choices_ && p.splits < kMaxSplits && depth + 1 < kMaxDepth && splittable(s.tmin, s.tmax);
     if (!scanned) {
         res = solve(solver_tape(), s);
     } else if (res.status != Status::Unknown) {
+        ++stats.scans;
+    } else if (split_first) {
         ++stats.scans;
     } else {
         const EvalCounts spent = res.evals;
@@ -1119,8 +1127,7 @@ void Walker::settle(unsigned i, unsigned j, const Ray& s, RayResult res, bool sc
         spend(i, j, res.evals);
         return;
     }
-    if (res.status == Status::Unknown && choices_ && p.splits < kMaxSplits &&
-        depth + 1 < kMaxDepth && splittable(s.tmin, s.tmax)) {
+    if (res.status == Status::Unknown && split_first) {
         // Undecided on the segment with this tape: each half gets its own box evaluation and a
         // tape pruned to it, where the choices that blurred the sign may resolve
         // (max(x, −min(x, y)) at the edge of a plane where f touches 0, say).

@@ -217,6 +217,35 @@ TEST(Coherent, SolidAgreesWithThePerRaySolidSolver) {
     }
 }
 
+/// An image's scan that leaves a segment undecided on a list with choices splits it with a tape
+/// pruned to each half before any solver runs on it. Fidget's colonnade touches 0 along planes
+/// (max(c − x, x − c) once its other choices are pruned): there the halves' pruned lists decide
+/// what the solver on the scan's list could not. The answers agree with the per-ray solid solver,
+/// no pixel is left unknown, and the splits are taken.
+TEST(Coherent, UndecidedScansOnListsWithChoicesAreSplit) {
+    const expr::Tape tape(expr::load_graph_file((kScenes / "fidget/colonnade.vm").string()));
+    for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
+        CoherentOptions o = small_view(p);
+        o.surface = Surface::Solid;
+        o.render.width = o.render.height = 40;
+        o.render.bounds = {{{-1, 1}, {-1, 1}, {-1, 1}}};
+        o.render.camera = frame_box(o.render.bounds, 35, 1.0);
+        o.certified = image_solver_options();
+        o.depth_pixels = 0.5;  // scans, as the CLI's images
+        std::vector<RayResult> results;
+        CoherentStats stats;
+        const Agreement a = against_per_ray(tape, o, false, 1, &results, &stats);
+        const char* where = p == Projection::Pinhole ? "pinhole" : "ortho";
+        EXPECT_EQ(a.wrong, 0u) << where << ": " << a.first_wrong;
+        EXPECT_GT(a.rays, 0u) << where;
+        EXPECT_EQ(std::count_if(results.begin(), results.end(),
+                                [](const RayResult& r) { return r.status == Status::Unknown; }),
+                  0)
+            << where;
+        EXPECT_GT(stats.splits, 0u) << where;
+    }
+}
+
 TEST(Coherent, SolidHitsHoldTheEntryOfMathematics) {
     // The ball of radius 1 seen along −z over [−2, 2]³: a ray at (x, y) enters at
     // z = sqrt(1 − x² − y²), t = 2 − z; the first entry lies in every Hit's enclosure.
