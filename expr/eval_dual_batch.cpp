@@ -1,9 +1,9 @@
 // expr/eval_dual_batch.cpp — Dual<double, 3> over lanes (expr/eval_dual_batch.h).
 //
 // Each op's lane loop is Dual's formula (interval/dual.h) written per lane: the arithmetic on
-// GCC's generic vectors of 4 lanes, up to the vector holding lane n − 1 (the same IEEE operation in
-// each lane); libm's functions at each of the n lanes' values. The ops without a loop here run
-// Dual's own operation lane by lane, through detail::run on a one-instruction list.
+// GCC's generic vectors of 4 lanes (8 on AVX-512), up to the vector holding lane n − 1 (the same
+// IEEE operation in each lane); libm's functions at each of the n lanes' values. The ops without a
+// loop here run Dual's own operation lane by lane, through detail::run on a one-instruction list.
 #include "expr/eval_dual_batch.h"
 
 #include <cassert>
@@ -45,27 +45,38 @@ void put(DualLanes& x, int k, const D3& d) {
     }
 }
 
-/// Four lanes of doubles (GCC's generic vectors: IEEE operations lane by lane, two SSE2 or one
-/// AVX instruction each; may alias the doubles it is read from). DualLanes' arrays are 64-byte
-/// aligned and kDualLanes is a multiple of 4.
+/// Four or eight lanes of doubles (GCC's generic vectors: IEEE operations lane by lane, two SSE2,
+/// one AVX or one AVX-512 instruction each; may alias the doubles it is read from). DualLanes'
+/// arrays are 64-byte aligned and kDualLanes is a multiple of 8.
 using V4 = double __attribute__((vector_size(32), __may_alias__));
-static_assert(kDualLanes % 4 == 0);
-V4* vec(double* x) { return reinterpret_cast<V4*>(x); }
-const V4* vec(const double* x) { return reinterpret_cast<const V4*>(x); }
+using V8 = double __attribute__((vector_size(64), __may_alias__));
+static_assert(kDualLanes % 8 == 0);
+template <class V>
+V* vec(double* x) {
+    return reinterpret_cast<V*>(x);
+}
+template <class V>
+const V* vec(const double* x) {
+    return reinterpret_cast<const V*>(x);
+}
 
 /// The chain rule's partials: o.g = d · a.g over the first nc vectors of lanes (d per lane).
+template <class V>
 [[gnu::always_inline]] inline void chain(const double* d, const DualLanes& a, DualLanes& o,
                                          int nc) {
     for (int i = 0; i < 3; ++i) {
-        for (int c = 0; c < nc; ++c) vec(o.g[i])[c] = vec(d)[c] * vec(a.g[i])[c];
+        for (int c = 0; c < nc; ++c) vec<V>(o.g[i])[c] = vec<V>(d)[c] * vec<V>(a.g[i])[c];
     }
 }
 
+/// The walk on vectors V of W lanes.
+template <class V>
 [[gnu::always_inline]] inline void walk(const Instr* in, const Instr* const end,
                                         const std::array<double, 3>* p, int n, DualLanes* r) {
     using certray::cos, certray::exp, certray::log, certray::sin, certray::sqrt;
-    alignas(64) double d[L] = {};  // lanes from n on stay 0 where libm fills only n
-    const int nc = (n + 3) / 4;    // vectors of lanes; lanes from n on are computed, never read
+    constexpr int W = static_cast<int>(sizeof(V) / sizeof(double));
+    alignas(64) double d[L] = {};    // lanes from n on stay 0 where libm fills only n
+    const int nc = (n + W - 1) / W;  // vectors of lanes; lanes from n on are computed, never read
     for (; in != end; ++in) {
         DualLanes& o = r[in->out];
         const int k_ary = arity(in->op);
@@ -94,60 +105,62 @@ const V4* vec(const double* x) { return reinterpret_cast<const V4*>(x); }
             case Op::Sub: {
                 const bool add = in->op == Op::Add;
                 for (int i = 0; i < 4; ++i) {
-                    const V4* x = vec(i == 0 ? a.v : a.g[i - 1]);
-                    const V4* y = vec(i == 0 ? b.v : b.g[i - 1]);
-                    V4* z = vec(i == 0 ? o.v : o.g[i - 1]);
+                    const V* x = vec<V>(i == 0 ? a.v : a.g[i - 1]);
+                    const V* y = vec<V>(i == 0 ? b.v : b.g[i - 1]);
+                    V* z = vec<V>(i == 0 ? o.v : o.g[i - 1]);
                     for (int c = 0; c < nc; ++c) z[c] = add ? x[c] + y[c] : x[c] - y[c];
                 }
                 break;
             }
             case Op::Neg:
                 for (int i = 0; i < 4; ++i) {
-                    const V4* x = vec(i == 0 ? a.v : a.g[i - 1]);
-                    V4* z = vec(i == 0 ? o.v : o.g[i - 1]);
+                    const V* x = vec<V>(i == 0 ? a.v : a.g[i - 1]);
+                    V* z = vec<V>(i == 0 ? o.v : o.g[i - 1]);
                     for (int c = 0; c < nc; ++c) z[c] = -x[c];
                 }
                 break;
             case Op::Mul:  // (f·g)' = f'·g + f·g'
-                for (int c = 0; c < nc; ++c) vec(o.v)[c] = vec(a.v)[c] * vec(b.v)[c];
+                for (int c = 0; c < nc; ++c) vec<V>(o.v)[c] = vec<V>(a.v)[c] * vec<V>(b.v)[c];
                 for (int i = 0; i < 3; ++i) {
                     for (int c = 0; c < nc; ++c) {
-                        vec(o.g[i])[c] =
-                            vec(a.g[i])[c] * vec(b.v)[c] + vec(a.v)[c] * vec(b.g[i])[c];
+                        vec<V>(o.g[i])[c] =
+                            vec<V>(a.g[i])[c] * vec<V>(b.v)[c] + vec<V>(a.v)[c] * vec<V>(b.g[i])[c];
                     }
                 }
                 break;
             case Op::Div:  // (f/g)' = (f' − q·g')/g, q = f/g
-                for (int c = 0; c < nc; ++c) vec(o.v)[c] = vec(a.v)[c] / vec(b.v)[c];
+                for (int c = 0; c < nc; ++c) vec<V>(o.v)[c] = vec<V>(a.v)[c] / vec<V>(b.v)[c];
                 for (int i = 0; i < 3; ++i) {
                     for (int c = 0; c < nc; ++c) {
-                        vec(o.g[i])[c] =
-                            (vec(a.g[i])[c] - vec(o.v)[c] * vec(b.g[i])[c]) / vec(b.v)[c];
+                        vec<V>(o.g[i])[c] =
+                            (vec<V>(a.g[i])[c] - vec<V>(o.v)[c] * vec<V>(b.g[i])[c]) /
+                            vec<V>(b.v)[c];
                     }
                 }
                 break;
             case Op::Square:  // chain(f², 2·f)
                 for (int c = 0; c < nc; ++c) {
-                    vec(o.v)[c] = vec(a.v)[c] * vec(a.v)[c];
-                    vec(d)[c] = 2.0 * vec(a.v)[c];
+                    vec<V>(o.v)[c] = vec<V>(a.v)[c] * vec<V>(a.v)[c];
+                    vec<V>(d)[c] = 2.0 * vec<V>(a.v)[c];
                 }
-                chain(d, a, o, nc);
+                chain<V>(d, a, o, nc);
                 break;
             case Op::Sqrt:  // chain(√f, 0.5/√f) where f > 0, else NaN partials
                 for (int k = 0; k < n; ++k) {
                     o.v[k] = sqrt(a.v[k]);
                     d[k] = a.v[k] > 0 ? 0.5 / o.v[k] : std::numeric_limits<double>::quiet_NaN();
                 }
-                chain(d, a, o, nc);
+                chain<V>(d, a, o, nc);
                 break;
             case Op::Exp:  // chain(eᶠ, eᶠ)
                 for (int k = 0; k < n; ++k) o.v[k] = exp(a.v[k]);
-                chain(o.v, a, o, nc);
+                chain<V>(o.v, a, o, nc);
                 break;
             case Op::Log:  // (log f)' = f'/f
                 for (int k = 0; k < n; ++k) o.v[k] = log(a.v[k]);
                 for (int i = 0; i < 3; ++i) {
-                    for (int c = 0; c < nc; ++c) vec(o.g[i])[c] = vec(a.g[i])[c] / vec(a.v)[c];
+                    for (int c = 0; c < nc; ++c)
+                        vec<V>(o.g[i])[c] = vec<V>(a.g[i])[c] / vec<V>(a.v)[c];
                 }
                 break;
             case Op::Sin:  // chain(sin f, cos f)
@@ -155,47 +168,48 @@ const V4* vec(const double* x) { return reinterpret_cast<const V4*>(x); }
                     o.v[k] = sin(a.v[k]);
                     d[k] = cos(a.v[k]);
                 }
-                chain(d, a, o, nc);
+                chain<V>(d, a, o, nc);
                 break;
             case Op::Cos:  // chain(cos f, −sin f)
                 for (int k = 0; k < n; ++k) {
                     o.v[k] = cos(a.v[k]);
                     d[k] = -sin(a.v[k]);
                 }
-                chain(d, a, o, nc);
+                chain<V>(d, a, o, nc);
                 break;
             case Op::Recip:  // Dual(1) / f: q = 1/f, (0 − q·f')/f
-                for (int c = 0; c < nc; ++c) vec(o.v)[c] = 1.0 / vec(a.v)[c];
+                for (int c = 0; c < nc; ++c) vec<V>(o.v)[c] = 1.0 / vec<V>(a.v)[c];
                 for (int i = 0; i < 3; ++i) {
                     for (int c = 0; c < nc; ++c) {
-                        vec(o.g[i])[c] = (0.0 - vec(o.v)[c] * vec(a.g[i])[c]) / vec(a.v)[c];
+                        vec<V>(o.g[i])[c] =
+                            (0.0 - vec<V>(o.v)[c] * vec<V>(a.g[i])[c]) / vec<V>(a.v)[c];
                     }
                 }
                 break;
             case Op::Min:  // certray::min's value; g's partials where g < f, else f's
             case Op::Max:  // certray::max's value; g's partials where f < g, else f's
                 for (int c = 0; c < nc; ++c) {
-                    const V4 x = vec(a.v)[c], y = vec(b.v)[c];
+                    const V x = vec<V>(a.v)[c], y = vec<V>(b.v)[c];
                     const bool lower = in->op == Op::Min;
                     // (x < y or x NaN) ? x : y for min, (x > y or x NaN) ? x : y for max.
                     const auto keep_x = (lower ? x < y : x > y) | (x != x);
-                    vec(o.v)[c] = keep_x ? x : y;
+                    vec<V>(o.v)[c] = keep_x ? x : y;
                     const auto take_y = lower ? y < x : x < y;
                     for (int i = 0; i < 3; ++i) {
-                        vec(o.g[i])[c] = take_y ? vec(b.g[i])[c] : vec(a.g[i])[c];
+                        vec<V>(o.g[i])[c] = take_y ? vec<V>(b.g[i])[c] : vec<V>(a.g[i])[c];
                     }
                 }
                 break;
             case Op::Abs:  // |f|, −f' where f < 0, else f' (at 0: the right-hand branch)
                 for (int c = 0; c < nc; ++c) {
-                    const V4 x = vec(a.v)[c];
+                    const V x = vec<V>(a.v)[c];
                     const auto negative = x < 0.0;
                     // fabs: the sign bit cleared (−0 → +0).
-                    using V4I = long long __attribute__((vector_size(32)));
-                    vec(o.v)[c] =
-                        reinterpret_cast<V4>(reinterpret_cast<V4I>(x) & 0x7fffffffffffffffLL);
+                    using VI = decltype(negative);  // the lanes' bits as integers
+                    vec<V>(o.v)[c] =
+                        reinterpret_cast<V>(reinterpret_cast<VI>(x) & 0x7fffffffffffffffLL);
                     for (int i = 0; i < 3; ++i) {
-                        vec(o.g[i])[c] = negative ? -vec(a.g[i])[c] : vec(a.g[i])[c];
+                        vec<V>(o.g[i])[c] = negative ? -vec<V>(a.g[i])[c] : vec<V>(a.g[i])[c];
                     }
                 }
                 break;
@@ -208,13 +222,18 @@ const V4* vec(const double* x) { return reinterpret_cast<const V4*>(x); }
 
 void walk_baseline(const Instr* in, const Instr* end, const std::array<double, 3>* p, int n,
                    DualLanes* r) {
-    walk(in, end, p, n, r);
+    walk<V4>(in, end, p, n, r);
 }
 #if defined(__x86_64__) && defined(__GNUC__)
 [[gnu::target("avx2"), gnu::flatten]] void walk_avx2(const Instr* in, const Instr* end,
                                                      const std::array<double, 3>* p, int n,
                                                      DualLanes* r) {
-    walk(in, end, p, n, r);
+    walk<V4>(in, end, p, n, r);
+}
+[[gnu::target("avx512f"), gnu::flatten]] void walk_avx512(const Instr* in, const Instr* end,
+                                                          const std::array<double, 3>* p, int n,
+                                                          DualLanes* r) {
+    walk<V8>(in, end, p, n, r);
 }
 #endif
 
@@ -224,7 +243,8 @@ void run_dual_batch(const Instr* begin, const Instr* end, const std::array<doubl
                     DualLanes* r) {
     assert(n >= 1 && n <= kDualLanes);
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (batch_isa() != BatchIsa::Baseline) return walk_avx2(begin, end, p, n, r);
+    if (batch_isa() == BatchIsa::Avx512) return walk_avx512(begin, end, p, n, r);
+    if (batch_isa() == BatchIsa::Avx2) return walk_avx2(begin, end, p, n, r);
 #endif
     walk_baseline(begin, end, p, n, r);
 }
