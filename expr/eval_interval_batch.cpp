@@ -24,11 +24,11 @@
 // One template walk over a vector type V (expr/interval_batch_simd.h), compiled for SSE2, AVX2
 // and AVX-512 (target attributes, flattened entry points as in expr/eval_batch.cpp) and chosen by
 // batch_isa(). Decorations are bit masks, so a lane's decoration costs a bit of a mask register.
-// The binary32 walk (IntervalLanesF) is the same template over binary32 vectors (IvSse2F, IvAvx2F;
-// AVX-512 machines take AVX2's): the kernels of + − × ÷ square √ neg abs min max 1/x, their
-// Boost lanes by the scalar operation rounded outward, exp and log by interval/exp_log_kernel_f32.h
-// and sin and cos by interval/trig_kernel_f32.h (kernel_lanes_f32), every other op through the
-// double walk (via_double), so its contract is inclusion, not equality.
+// The binary32 walk (IntervalLanesF) is the same template over binary32 vectors (IvSse2F, IvAvx2F,
+// IvAvx512F): the kernels of + − × ÷ square √ neg abs min max 1/x, their Boost lanes by the scalar
+// operation rounded outward, exp and log by interval/exp_log_kernel_f32.h and sin and cos by
+// interval/trig_kernel_f32.h (kernel_lanes_f32), every other op through the double walk
+// (via_double), so its contract is inclusion, not equality.
 // Reference: docs/theory/interval_batch.md; timings in docs/benchmarks.md, "Interval batch walk".
 #include "expr/eval_interval_batch.h"
 
