@@ -314,10 +314,9 @@ class Walker {
     /// The four lanes of mean_value()'s form on a smooth list, in double (four lanes are half a
     /// binary32 vector): g[0..2] the gradient's components over the box x, g[3] the derivative
     /// along dc; false where the walk proves nothing (f not defined and continuous on x, an
-    /// unbounded component). Where a vector of the double walk holds eight lanes (AVX-512) and
-    /// `centre` is given, its lane 4 walks the box c and *centre is f's enclosure there (the
-    /// tangent list's value lanes are the list's, bit for bit: the scalar walk's), in the same
-    /// vector instead of a scalar walk of the list; otherwise *centre is left empty.
+    /// unbounded component). Where `c` is given (centre_lane_: a vector of the double walk holds
+    /// eight lanes), lane 4 walks the box c in the same vector and *centre is f's enclosure there
+    /// (the tangent list's value lanes are the list's, bit for bit: the scalar walk's).
     bool tangent_form_lanes(const expr::TangentList& tl, const std::array<UpInterval, 3>& x,
                             const double* dc, UpInterval* g,
                             const std::array<UpInterval, 3>* c = nullptr,
@@ -797,7 +796,7 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
         // (twice as wide on Barth's sextic), so those sums are taken over the components.
         UpInterval g[4];
         UpInterval m;
-        if (!tangent_form_lanes(*tl, x, dc, g, &c, &m)) return none;
+        if (!tangent_form_lanes(*tl, x, dc, g, centre_lane_ ? &c : nullptr, &m)) return none;
         if (!centre_lane_) {
             expr::detail::run<UpInterval>(list, c, centre_.data());
             m = centre_[list.back().out];
@@ -1112,9 +1111,7 @@ void Walker::settle(unsigned i, unsigned j, const Ray& s, RayResult res, bool sc
         choices_ && p.splits < kMaxSplits && depth + 1 < kMaxDepth && splittable(s.tmin, s.tmax);
     if (!scanned) {
         res = solve(solver_tape(), s);
-    } else if (res.status != Status::Unknown) {
-        ++stats.scans;
-    } else if (split_first) {
+    } else if (res.status != Status::Unknown || split_first) {
         ++stats.scans;
     } else {
         const EvalCounts spent = res.evals;
@@ -1157,7 +1154,7 @@ bool Walker::tangent_form_lanes(const expr::TangentList& tl, const std::array<Up
                                 const double* dc, UpInterval* g, const std::array<UpInterval, 3>* c,
                                 UpInterval* centre) {
     LaneFile<expr::IntervalLanes>& file = d64_;
-    const bool with_centre = c != nullptr && centre_lane_;
+    const bool with_centre = c != nullptr;
     const int lanes = with_centre ? 5 : 4;
     LaneBox boxes[5];
     for (int k = 0; k < 3; ++k) {
@@ -1180,9 +1177,7 @@ bool Walker::tangent_form_lanes(const expr::TangentList& tl, const std::array<Up
     }
     expr::run_interval_batch(tl.list.data(), tl.list.data() + tl.list.size(), file.in.data(),
                              file.regs.data(), lanes);
-    if (centre != nullptr) {
-        *centre = with_centre ? expr::lane(file.regs[tl.value], 4) : UpInterval::empty();
-    }
+    if (with_centre) *centre = expr::lane(file.regs[tl.value], 4);
     const UpInterval v = expr::lane(file.regs[tl.value], 0);
     if (v.is_empty() || !v.defined) return false;
     for (int l = 0; l < 4; ++l) {
@@ -2221,7 +2216,8 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
     // answers them (while they are in its cache) instead of a pass over the image afterwards.
     const Aov aov = options.render.aov;
     const bool colour_tiles = aov_is_local(aov);
-    const AovScale scale = aov_scale(ans, aov, options.render.light);
+    // (For a local AOV the scale is the light alone: the answers, not written yet, are not read.)
+    const AovScale scale = colour_tiles ? aov_scale(ans, aov, options.render.light) : AovScale{};
     if (colour_tiles)
         result.image = RgbImage(ans.width, ans.height, boost::container::default_init);
     // The tile's pixels counted (and coloured) once the walk has answered them.
@@ -2229,10 +2225,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
             const std::size_t row = std::size_t{j} * ans.width;
             for (std::size_t k = row + r.i0; k < row + r.i0 + r.w; ++k) {
-                c.hit += ans.status[k] == Status::Hit;
-                c.miss += ans.status[k] == Status::Miss;
-                c.unknown += ans.status[k] == Status::Unknown;
-                c.max_pixel_evals = std::max(c.max_pixel_evals, ans.evals[k]);
+                c.count_pixel(ans.status[k], ans.evals[k]);
             }
             if (colour_tiles) colorize_span(ans, aov, scale, j, r.i0, r.i0 + r.w, result.image);
         }
@@ -2269,10 +2262,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
     total.tape_length = tape.size();
     for (unsigned w = 0; w < workers; ++w) {
         st.evals += sums[w];
-        st.hit += counts[w].hit;
-        st.miss += counts[w].miss;
-        st.unknown += counts[w].unknown;
-        st.max_pixel_evals = std::max(st.max_pixel_evals, counts[w].max_pixel_evals);
+        st.count_pixels(counts[w]);
         const CoherentStats& s = walk_stats[w];
         total.box_evals += s.box_evals;
         total.box_instructions += s.box_instructions;

@@ -320,12 +320,7 @@ RenderResult render_3d(const expr::Tape& tape, const RayFunction& method,
 
     RenderStats& st = result.stats;
     for (const EvalCounts& s : sums) st.evals += s;
-    for (std::size_t k = 0; k < pixels; ++k) {
-        st.hit += ans.status[k] == Status::Hit;
-        st.miss += ans.status[k] == Status::Miss;
-        st.unknown += ans.status[k] == Status::Unknown;
-        st.max_pixel_evals = std::max(st.max_pixel_evals, ans.evals[k]);
-    }
+    for (std::size_t k = 0; k < pixels; ++k) st.count_pixel(ans.status[k], ans.evals[k]);
     result.image = colorize(ans, options.aov, options.light, options.threads);
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

@@ -12,6 +12,7 @@
 // Reference: pbrt-v4's film/tile loop; docs/theory/rendering.md.
 #pragma once
 
+#include <algorithm>
 #include <boost/container/vector.hpp>
 #include <cstdint>
 #include <limits>
@@ -60,6 +61,21 @@ struct RenderStats {
     EvalCounts evals;
     std::uint64_t max_pixel_evals = 0;
     double seconds = 0;
+
+    /// Counts one pixel: its status and its evaluations (the most for one pixel).
+    void count_pixel(Status s, std::uint64_t pixel_evals) {
+        hit += s == Status::Hit;
+        miss += s == Status::Miss;
+        unknown += s == Status::Unknown;
+        max_pixel_evals = std::max(max_pixel_evals, pixel_evals);
+    }
+    /// Adds the pixels counted in `o` (a part of the image counted apart).
+    void count_pixels(const RenderStats& o) {
+        hit += o.hit;
+        miss += o.miss;
+        unknown += o.unknown;
+        max_pixel_evals = std::max(max_pixel_evals, o.max_pixel_evals);
+    }
 };
 
 /// Memory for a pixel buffer of `bytes` (PixelAllocator); throws std::bad_alloc.
