@@ -250,6 +250,9 @@ class Walker {
     };
     void node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
               unsigned depth, const Hull* given = nullptr);
+    /// The open rays of r whose segments meet [a, b]: their count and the hull of their origins,
+    /// directions and parameter ranges.
+    Hull hull_of(const Rect& r, double a, double b);
     /// `tape`: the register tape of `list`, or null (built into `level` when a solver needs it).
     void leaf(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
               Level& level, unsigned depth);
@@ -314,13 +317,32 @@ class Walker {
     /// The four lanes of mean_value()'s form on a smooth list, in double (four lanes are half a
     /// binary32 vector): g[0..2] the gradient's components over the box x, g[3] the derivative
     /// along dc; false where the walk proves nothing (f not defined and continuous on x, an
-    /// unbounded component). Where `c` is given (centre_lane_: a vector of the double walk holds
-    /// eight lanes), lane 4 walks the box c in the same vector and *centre is f's enclosure there
-    /// (the tangent list's value lanes are the list's, bit for bit: the scalar walk's).
+    /// unbounded component). Where a vector of the double walk holds eight lanes (centre_lane_),
+    /// ray_form_lanes() takes the centre in a fifth lane of the same walk instead.
     bool tangent_form_lanes(const expr::TangentList& tl, const std::array<UpInterval, 3>& x,
-                            const double* dc, UpInterval* g,
-                            const std::array<UpInterval, 3>* c = nullptr,
-                            UpInterval* centre = nullptr);
+                            const double* dc, UpInterval* g);
+    /// The node mean value form's inputs and lanes (mean_value, split_screen): the box x of a
+    /// node's rays over [a, b], its centre c = oc + tc·dc (rounded outward), and the form's
+    /// gradient lanes g (tangent_form_lanes) and centre value m.
+    struct RayForm {
+        std::array<UpInterval, 3> x, c;
+        double oc[3], dc[3], tc;
+        UpInterval g[4], m;
+        bool ok;
+    };
+    /// x, c, oc, dc and tc of the form over the rays of a hull over [a, b] (upward mode held).
+    static void prepare_form(RayForm& f, double a, double b, const double* olo, const double* ohi,
+                             const double* dlo, const double* dhi);
+    /// The form from its lanes: m + Σ_k g_k·(O_k − oc_k) + T·Σ_k g_k·(D_k − dc_k) + g_3·(T − tc),
+    /// empty where the lanes proved nothing.
+    static UpInterval ray_form(const RayForm& f, double a, double b, const double* olo,
+                               const double* ohi, const double* dlo, const double* dhi);
+    /// The lanes of n forms (n ≤ kMaxForms) in one walk of `tl`: five lanes each, the centre's
+    /// last.
+    static constexpr int kMaxForms = 4;
+    void ray_form_lanes(const expr::TangentList& tl, RayForm* forms, int n);
+    RayForm forms_[kMaxForms];              ///< split_screen()'s forms
+    std::vector<UpInterval> split_values_;  ///< split_screen()'s enclosures
     /// level.folded for the scan in lanes of `sub` over `box`, from level.values: `sub` is the
     /// list the node evaluated into level.values, or level.list, that list pruned by the
     /// node's prune_ssa (prune_ws_ as it left it). The subexpressions narrower than kFoldWidth
@@ -373,6 +395,16 @@ class Walker {
     /// What an enclosure F of f over a box proves for the surface asked for (Unusable: a form
     /// that does not apply, segment_form).
     enum class Proof { None, Excluded, Inside, Unusable };
+    /// The rest of node() once its box's enclosures (level.values, and `proven`: what they or the
+    /// mean value form prove) are known: an answer, a scan, a split or a leaf.
+    void descend(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
+                 unsigned depth, const Hull& hull, Proof proven);
+    /// node() on the four quarters of r (visited in order), at `depth`. Where nothing below reads
+    /// a node's slot enclosures but its value (no pruning, no folding), their boxes are evaluated
+    /// in lanes of one walk, and their mean value forms in lanes of another
+    /// (CoherentOptions::children_in_lanes): the same enclosures and forms, bit for bit.
+    void split_screen(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
+                      unsigned depth);
     Proof proof(const UpInterval& f) const {
         if (!solid_) return possibly_zero(f) ? Proof::None : Proof::Excluded;
         // f ≥ 0 wherever it is defined on the box: no point of the solid {f defined, f < 0}.
@@ -775,17 +807,12 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
     // x − x_c = (o − oc) + t·(d − dc) + (t − tc)·dc. Along the rays the gradient is dotted with dc
     // before it is widened by the segment's length, which the form over the box (Σ G_k·(X_k −
     // c_k)) cannot do: Barth's sextic, 512² pinhole, 7.2 → 6.7 evaluations per pixel.
-    std::array<D, 3> p;
-    std::array<UpInterval, 3> c;
-    const double tc = midpoint(t);
-    double oc[3], dc[3];
-    for (int k = 0; k < 3; ++k) {
-        p[k] = D(x[k]);
-        p[k].v[k] = UpInterval(1.0);
-        oc[k] = std::clamp(0.5 * olo[k] + 0.5 * ohi[k], olo[k], ohi[k]);
-        dc[k] = std::clamp(0.5 * dlo[k] + 0.5 * dhi[k], dlo[k], dhi[k]);
-        c[k] = UpInterval(oc[k]) + UpInterval(tc) * UpInterval(dc[k]);  // holds oc + tc·dc
-    }
+    RayForm form;
+    prepare_form(form, a, b, olo, ohi, dlo, dhi);
+    const std::array<UpInterval, 3>& c = form.c;
+    const double tc = form.tc;
+    const double* oc = form.oc;
+    const double* dc = form.dc;
     if (tl != nullptr) {
         // The same form from the tangent list: lanes 0–2 walk the box X with the seeds e_x, e_y,
         // e_z (the gradient's components, as the Dual walk has them), lane 3 with the seed dc
@@ -794,20 +821,21 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
         // second vector of the tangent list for one lane (Barth's sextic 3% less time, Mitchell's
         // 4%). Interval seeds O − oc and D − dc would lose the cancellations inside each component
         // (twice as wide on Barth's sextic), so those sums are taken over the components.
-        UpInterval g[4];
-        UpInterval m;
-        if (!tangent_form_lanes(*tl, x, dc, g, centre_lane_ ? &c : nullptr, &m)) return none;
-        if (!centre_lane_) {
-            expr::detail::run<UpInterval>(list, c, centre_.data());
-            m = centre_[list.back().out];
+        if (centre_lane_) {
+            ray_form_lanes(*tl, &form, 1);
+        } else {
+            form.ok = tangent_form_lanes(*tl, x, dc, form.g);
+            if (form.ok) {
+                expr::detail::run<UpInterval>(list, c, centre_.data());
+                form.m = centre_[list.back().out];
+            }
         }
-        if (m.is_empty() || !m.defined) return none;
-        UpInterval across(0.0);
-        for (int k = 0; k < 3; ++k) {
-            m = m + g[k] * (UpInterval(olo[k], ohi[k]) - UpInterval(oc[k]));
-            across = across + g[k] * (UpInterval(dlo[k], dhi[k]) - UpInterval(dc[k]));
-        }
-        return m + t * across + g[3] * (t - UpInterval(tc));
+        return ray_form(form, a, b, olo, ohi, dlo, dhi);
+    }
+    std::array<D, 3> p;
+    for (int k = 0; k < 3; ++k) {
+        p[k] = D(x[k]);
+        p[k].v[k] = UpInterval(1.0);
     }
     expr::detail::run<D>(list, p, duals_.data());
     const D& g = duals_[list.back().out];
@@ -911,72 +939,68 @@ bool Walker::ortho_tile_free(const Rect& r) {
     return true;
 }
 
+Walker::Hull Walker::hull_of(const Rect& r, double a, double b) {
+    Hull hull;
+    hull.answered = answered_;
+    // A pinhole's rays share their origin, a heightmap's their direction: that hull is the
+    // first open ray's, and the loop takes the other one only.
+    const auto take = [&](auto vary_o, auto vary_d) {
+        const Px* first = nullptr;
+        for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
+            for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
+                const Px& p = px(i, j);
+                if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
+                if (first == nullptr) first = &p;
+                ++hull.count;
+                hull.tlo = std::min(hull.tlo, p.ray.tmin);
+                hull.thi = std::max(hull.thi, p.ray.tmax);
+                for (int c = 0; c < 3; ++c) {
+                    if constexpr (vary_o) {
+                        hull.olo[c] = std::min(hull.olo[c], p.ray.o[c]);
+                        hull.ohi[c] = std::max(hull.ohi[c], p.ray.o[c]);
+                    }
+                    if constexpr (vary_d) {
+                        hull.dlo[c] = std::min(hull.dlo[c], p.ray.d[c]);
+                        hull.dhi[c] = std::max(hull.dhi[c], p.ray.d[c]);
+                    }
+                }
+            }
+        }
+        if (first == nullptr) return;
+        for (int c = 0; c < 3; ++c) {
+            if constexpr (!vary_o) hull.olo[c] = hull.ohi[c] = first->ray.o[c];
+            if constexpr (!vary_d) hull.dlo[c] = hull.dhi[c] = first->ray.d[c];
+        }
+    };
+    switch (rays_.projection()) {
+        case Projection::Pinhole:
+            take(std::false_type{}, std::true_type{});
+            break;
+        case Projection::Ortho:
+            take(std::true_type{}, std::false_type{});
+            break;
+        case Projection::List:
+            take(std::true_type{}, std::true_type{});
+            break;
+    }
+    return hull;
+}
+
 void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
                   unsigned depth, const Hull* given) {
     // The open rays of r that meet [a, b], and the hull of their origins and directions. A
     // parent's hull over the same rectangle serves while no ray has been answered since it was
     // taken: its rays are a superset, so its box still holds them all.
-    Hull hull;
-    if (given != nullptr && given->answered == answered_) {
-        hull = *given;
-    } else {
-        hull.answered = answered_;
-        // A pinhole's rays share their origin, a heightmap's their direction: that hull is the
-        // first open ray's, and the loop takes the other one only.
-        const auto take = [&](auto vary_o, auto vary_d) {
-            const Px* first = nullptr;
-            for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
-                for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
-                    const Px& p = px(i, j);
-                    if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
-                    if (first == nullptr) first = &p;
-                    ++hull.count;
-                    hull.tlo = std::min(hull.tlo, p.ray.tmin);
-                    hull.thi = std::max(hull.thi, p.ray.tmax);
-                    for (int c = 0; c < 3; ++c) {
-                        if constexpr (vary_o) {
-                            hull.olo[c] = std::min(hull.olo[c], p.ray.o[c]);
-                            hull.ohi[c] = std::max(hull.ohi[c], p.ray.o[c]);
-                        }
-                        if constexpr (vary_d) {
-                            hull.dlo[c] = std::min(hull.dlo[c], p.ray.d[c]);
-                            hull.dhi[c] = std::max(hull.dhi[c], p.ray.d[c]);
-                        }
-                    }
-                }
-            }
-            if (first == nullptr) return;
-            for (int c = 0; c < 3; ++c) {
-                if constexpr (!vary_o) hull.olo[c] = hull.ohi[c] = first->ray.o[c];
-                if constexpr (!vary_d) hull.dlo[c] = hull.dhi[c] = first->ray.d[c];
-            }
-        };
-        switch (rays_.projection()) {
-            case Projection::Pinhole:
-                take(std::false_type{}, std::true_type{});
-                break;
-            case Projection::Ortho:
-                take(std::true_type{}, std::false_type{});
-                break;
-            case Projection::List:
-                take(std::true_type{}, std::true_type{});
-                break;
-        }
-    }
+    const Hull hull = given != nullptr && given->answered == answered_ ? *given : hull_of(r, a, b);
     const unsigned count = hull.count;
-    const double* olo = hull.olo;
-    const double* ohi = hull.ohi;
-    const double* dlo = hull.dlo;
-    const double* dhi = hull.dhi;
-    const double tlo = hull.tlo, thi = hull.thi;
     if (count == 0) return;
     // Rays start no earlier than tlo and end by thi: nothing of them lies outside [tlo, thi].
-    a = std::max(a, tlo);
-    b = std::min(b, thi);
+    a = std::max(a, hull.tlo);
+    b = std::min(b, hull.thi);
 
     // The box [o] + [a, b]·[d] holds o + t·d for every such ray and t in [a, b] (rounded outward).
     Level& level = levels_[depth];
-    const Box box = segment_box(olo, ohi, dlo, dhi, a, b);
+    const Box box = segment_box(hull.olo, hull.ohi, hull.dlo, hull.dhi, a, b);
     const auto same = [](const Box& x, const Box& y) {
         for (int c = 0; c < 3; ++c) {
             if (x[c].lower() != y[c].lower() || x[c].upper() != y[c].upper()) return false;
@@ -993,17 +1017,21 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
         ++evals.interval;
     }
     root_box_.reset();
-    const UpInterval f = level.values[list.back().out];
     // Zero: 0 ∉ F (or f undefined on the whole box), no ray meets f = 0 here. Solid: F ≥ 0, no
     // ray enters {f < 0} here; or F < 0, every ray enters at its first point in the box.
-    Proof proven = proof(f);
+    Proof proven = proof(level.values[list.back().out]);
     if (proven == Proof::None && try_mean_value(count, list, depth)) {
         const expr::TangentList* tl =
             tangent_kind(list, depth) == expr::TangentKind::Smooth ? tangent(list, depth) : nullptr;
-        const UpInterval m = mean_value(list, a, b, olo, ohi, dlo, dhi, tl);
+        const UpInterval m = mean_value(list, a, b, hull.olo, hull.ohi, hull.dlo, hull.dhi, tl);
         if (!m.is_empty()) proven = proof(m);  // empty: the form does not apply
         mean_value_tried(count, proven != Proof::None);
     }
+    descend(r, a, b, list, tape, depth, hull, proven);
+}
+
+void Walker::descend(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
+                     unsigned depth, const Hull& hull, Proof proven) {
     if (proven == Proof::Excluded) {
         ++stats.boxes_excluded;
         return;
@@ -1013,7 +1041,8 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
         inside(r, a, b, list);
         return;
     }
-
+    Level& level = levels_[depth];
+    const unsigned count = hull.count;
     const Ssa* sub = &list;
     const expr::Tape* sub_tape = tape;
     if (choices_) level.tangent.forget();  // level.list may be rewritten
@@ -1045,8 +1074,8 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
         // How far apart the rays are at the far end, plus a pixel: the box's lateral extent.
         double spread_o = 0, spread_d = 0;
         for (int c = 0; c < 3; ++c) {
-            spread_o = std::max(spread_o, ohi[c] - olo[c]);
-            spread_d = std::max(spread_d, dhi[c] - dlo[c]);
+            spread_o = std::max(spread_o, hull.ohi[c] - hull.olo[c]);
+            spread_d = std::max(spread_d, hull.dhi[c] - hull.dlo[c]);
         }
         const double lateral = spread_o + std::fabs(b) * spread_d +
                                rays_.pixel_pitch() * (rays_.angular() ? std::fabs(b) : 1);
@@ -1058,17 +1087,104 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
             return;
         }
         if (r.w > 1 || r.h > 1) {
-            const unsigned w1 = (r.w + 1) / 2, h1 = (r.h + 1) / 2;
-            node({r.i0, r.j0, w1, h1}, a, b, *sub, sub_tape, depth + 1);
-            if (r.w > w1) node({r.i0 + w1, r.j0, r.w - w1, h1}, a, b, *sub, sub_tape, depth + 1);
-            if (r.h > h1) node({r.i0, r.j0 + h1, w1, r.h - h1}, a, b, *sub, sub_tape, depth + 1);
-            if (r.w > w1 && r.h > h1) {
-                node({r.i0 + w1, r.j0 + h1, r.w - w1, r.h - h1}, a, b, *sub, sub_tape, depth + 1);
-            }
+            split_screen(r, a, b, *sub, sub_tape, depth + 1);
             return;
         }
     }
     leaf(r, a, b, *sub, sub_tape, level, depth);
+}
+
+void Walker::split_screen(const Rect& r, double a, double b, const Ssa& list,
+                          const expr::Tape* tape, unsigned depth) {
+    const unsigned w1 = (r.w + 1) / 2, h1 = (r.h + 1) / 2;
+    Rect quarter[4];
+    int n = 0;
+    quarter[n++] = {r.i0, r.j0, w1, h1};
+    if (r.w > w1) quarter[n++] = {r.i0 + w1, r.j0, r.w - w1, h1};
+    if (r.h > h1) quarter[n++] = {r.i0, r.j0 + h1, w1, r.h - h1};
+    if (r.w > w1 && r.h > h1) quarter[n++] = {r.i0 + w1, r.j0 + h1, r.w - w1, r.h - h1};
+    // Each quarter's slot enclosures are level.values at `depth`, which the descent below reads
+    // only to prune (choices_) and to fold (may_fold): without either, only f's enclosure over a
+    // quarter's box is needed, and the quarters' boxes share one walk.
+    if (!options_.children_in_lanes || choices_ || may_fold(list)) {
+        for (int k = 0; k < n; ++k) node(quarter[k], a, b, list, tape, depth);
+        return;
+    }
+    // The quarters' rays are disjoint: a quarter's hull, taken before the others are walked,
+    // is the one node() would take when it comes to it.
+    struct Quarter {
+        Hull hull;
+        double a, b;
+        Proof proven;
+        int form;  // its lanes in forms, or −1
+    };
+    Quarter q[4];
+    LaneBox boxes[4];
+    int live[4];
+    int m = 0;
+    for (int k = 0; k < n; ++k) {
+        q[k].hull = hull_of(quarter[k], a, b);
+        if (q[k].hull.count == 0) continue;
+        q[k].a = std::max(a, q[k].hull.tlo);
+        q[k].b = std::min(b, q[k].hull.thi);
+        const Box box =
+            segment_box(q[k].hull.olo, q[k].hull.ohi, q[k].hull.dlo, q[k].hull.dhi, q[k].a, q[k].b);
+        for (int c = 0; c < 3; ++c) {
+            boxes[m].lo[c] = box[c].lower();
+            boxes[m].hi[c] = box[c].upper();
+        }
+        live[m++] = k;
+    }
+    if (m == 0) return;
+    // The boxes' enclosures in double lanes: lane l is bit for bit run<UpInterval>'s over box l.
+    eval_lanes_in(d64_, list, boxes, static_cast<std::size_t>(m), split_values_, nullptr);
+    stats.box_evals += m;
+    stats.box_instructions += m * list.size();
+    evals.interval += m;
+    const expr::TangentList* tl = nullptr;
+    bool smooth_known = false;
+    int forms = 0;
+    for (int l = 0; l < m; ++l) {
+        Quarter& z = q[live[l]];
+        z.proven = proof(split_values_[l]);
+        z.form = -1;
+        if (z.proven != Proof::None || !try_mean_value(z.hull.count, list, depth)) continue;
+        if (!smooth_known) {
+            smooth_known = true;
+            if (tangent_kind(list, depth) == expr::TangentKind::Smooth) tl = tangent(list, depth);
+        }
+        const Hull& h = z.hull;
+        const bool one_ray =
+            std::equal(h.olo, h.olo + 3, h.ohi) && std::equal(h.dlo, h.dlo + 3, h.dhi);
+        if (tl != nullptr && !one_ray) {
+            prepare_form(forms_[forms], z.a, z.b, h.olo, h.ohi, h.dlo, h.dhi);
+            z.form = forms++;
+            continue;
+        }
+        const UpInterval f = mean_value(list, z.a, z.b, h.olo, h.ohi, h.dlo, h.dhi, tl);
+        if (!f.is_empty()) z.proven = proof(f);
+        mean_value_tried(h.count, z.proven != Proof::None);
+    }
+    if (forms > 0) {
+        ray_form_lanes(*tl, forms_, forms);
+        for (int l = 0; l < m; ++l) {
+            Quarter& z = q[live[l]];
+            if (z.form < 0) continue;
+            const Hull& h = z.hull;
+            stats.box_evals += 2;
+            stats.box_instructions += 2 * list.size();
+            ++evals.gradient;
+            ++evals.interval;
+            const UpInterval f = ray_form(forms_[z.form], z.a, z.b, h.olo, h.ohi, h.dlo, h.dhi);
+            if (!f.is_empty()) z.proven = proof(f);
+            mean_value_tried(h.count, z.proven != Proof::None);
+        }
+    }
+    for (int l = 0; l < m; ++l) {
+        Quarter& z = q[live[l]];
+        z.hull.answered = answered_;  // the rays answered since are the other quarters'
+        descend(quarter[live[l]], z.a, z.b, list, tape, depth, z.hull, z.proven);
+    }
 }
 
 void Walker::leaf(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
@@ -1151,42 +1267,99 @@ void Walker::settle(unsigned i, unsigned j, const Ray& s, RayResult res, bool sc
 }
 
 bool Walker::tangent_form_lanes(const expr::TangentList& tl, const std::array<UpInterval, 3>& x,
-                                const double* dc, UpInterval* g, const std::array<UpInterval, 3>* c,
-                                UpInterval* centre) {
+                                const double* dc, UpInterval* g) {
     LaneFile<expr::IntervalLanes>& file = d64_;
-    const bool with_centre = c != nullptr;
-    const int lanes = with_centre ? 5 : 4;
-    LaneBox boxes[5];
+    LaneBox boxes[4];
     for (int k = 0; k < 3; ++k) {
         for (int l = 0; l < 4; ++l) {
             boxes[l].lo[k] = x[k].lower();
             boxes[l].hi[k] = x[k].upper();
         }
-        if (with_centre) {
-            boxes[4].lo[k] = (*c)[k].lower();
-            boxes[4].hi[k] = (*c)[k].upper();
+    }
+    load_lanes(file, boxes, 4);
+    if (file.regs.size() < tl.slots) file.regs.resize(tl.slots);
+    for (int k = 0; k < 3; ++k) {
+        expr::IntervalLanes& seed = file.regs[tl.seed[k]];
+        for (int l = 0; l < 3; ++l) expr::set_lane(seed, l, UpInterval(l == k ? 1.0 : 0.0));
+        expr::set_lane(seed, 3, UpInterval(dc[k]));
+    }
+    expr::run_interval_batch(tl.list.data(), tl.list.data() + tl.list.size(), file.in.data(),
+                             file.regs.data(), 4);
+    const UpInterval v = expr::lane(file.regs[tl.value], 0);
+    if (v.is_empty() || !v.defined) return false;
+    for (int l = 0; l < 4; ++l) {
+        g[l] = expr::lane(file.regs[tl.derivative], l);
+        if (!finite(g[l])) return false;
+    }
+    return true;
+}
+
+void Walker::prepare_form(RayForm& f, double a, double b, const double* olo, const double* ohi,
+                          const double* dlo, const double* dhi) {
+    f.x = segment_box(olo, ohi, dlo, dhi, a, b);
+    f.tc = midpoint(UpInterval(a, b));
+    for (int k = 0; k < 3; ++k) {
+        f.oc[k] = std::clamp(0.5 * olo[k] + 0.5 * ohi[k], olo[k], ohi[k]);
+        f.dc[k] = std::clamp(0.5 * dlo[k] + 0.5 * dhi[k], dlo[k], dhi[k]);
+        f.c[k] = UpInterval(f.oc[k]) + UpInterval(f.tc) * UpInterval(f.dc[k]);  // oc + tc·dc
+    }
+}
+
+UpInterval Walker::ray_form(const RayForm& f, double a, double b, const double* olo,
+                            const double* ohi, const double* dlo, const double* dhi) {
+    UpInterval m = f.m;
+    if (!f.ok || m.is_empty() || !m.defined) return UpInterval::empty();
+    const UpInterval t(a, b);
+    UpInterval across(0.0);
+    for (int k = 0; k < 3; ++k) {
+        m = m + f.g[k] * (UpInterval(olo[k], ohi[k]) - UpInterval(f.oc[k]));
+        across = across + f.g[k] * (UpInterval(dlo[k], dhi[k]) - UpInterval(f.dc[k]));
+    }
+    return m + t * across + f.g[3] * (t - UpInterval(f.tc));
+}
+
+void Walker::ray_form_lanes(const expr::TangentList& tl, RayForm* forms, int n) {
+    // Form k's lanes 5k … 5k + 3 walk its box x with the seeds e_x, e_y, e_z (the gradient's
+    // components) and dc (∇f·dc directly, tighter than Σ G_k·dc_k); lane 5k + 4 its centre c
+    // with the seed 0 (the tangent list's value lanes are the list's, bit for bit).
+    LaneFile<expr::IntervalLanes>& file = d64_;
+    constexpr int kLanes = 5;
+    LaneBox boxes[kMaxForms * kLanes];
+    const int lanes = n * kLanes;
+    for (int f = 0; f < n; ++f) {
+        for (int k = 0; k < 3; ++k) {
+            for (int l = 0; l < 4; ++l) {
+                boxes[f * kLanes + l].lo[k] = forms[f].x[k].lower();
+                boxes[f * kLanes + l].hi[k] = forms[f].x[k].upper();
+            }
+            boxes[f * kLanes + 4].lo[k] = forms[f].c[k].lower();
+            boxes[f * kLanes + 4].hi[k] = forms[f].c[k].upper();
         }
     }
     load_lanes(file, boxes, lanes);
     if (file.regs.size() < tl.slots) file.regs.resize(tl.slots);
     for (int k = 0; k < 3; ++k) {
         expr::IntervalLanes& seed = file.regs[tl.seed[k]];
-        for (int l = 0; l < 3; ++l) expr::set_lane(seed, l, UpInterval(l == k ? 1.0 : 0.0));
-        expr::set_lane(seed, 3, UpInterval(dc[k]));
-        if (with_centre) expr::set_lane(seed, 4, UpInterval(0.0));
+        for (int f = 0; f < n; ++f) {
+            for (int l = 0; l < 3; ++l) {
+                expr::set_lane(seed, f * kLanes + l, UpInterval(l == k ? 1.0 : 0.0));
+            }
+            expr::set_lane(seed, f * kLanes + 3, UpInterval(forms[f].dc[k]));
+            expr::set_lane(seed, f * kLanes + 4, UpInterval(0.0));
+        }
     }
     expr::run_interval_batch(tl.list.data(), tl.list.data() + tl.list.size(), file.in.data(),
                              file.regs.data(), lanes);
-    if (with_centre) *centre = expr::lane(file.regs[tl.value], 4);
-    const UpInterval v = expr::lane(file.regs[tl.value], 0);
-    if (v.is_empty() || !v.defined) return false;
-    for (int l = 0; l < 4; ++l) {
-        g[l] = expr::lane(file.regs[tl.derivative], l);
-        if (g[l].is_empty() || !std::isfinite(g[l].lower()) || !std::isfinite(g[l].upper())) {
-            return false;
+    for (int f = 0; f < n; ++f) {
+        RayForm& form = forms[f];
+        form.m = expr::lane(file.regs[tl.value], f * kLanes + 4);
+        const UpInterval v = expr::lane(file.regs[tl.value], f * kLanes);
+        form.ok = !v.is_empty() && v.defined;
+        for (int l = 0; l < 4 && form.ok; ++l) {
+            form.g[l] = expr::lane(file.regs[tl.derivative], f * kLanes + l);
+            form.ok = finite(form.g[l]);
         }
     }
-    return true;
 }
 
 template <class L>

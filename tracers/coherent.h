@@ -158,6 +158,12 @@ struct CoherentOptions {
     /// The same decisions, bit for bit, in fewer lanes: Fidget's bear 0.86–0.93 of the time
     /// (docs/benchmarks.md, session 18). Off: every segment's form at once.
     bool segment_enclosures_first = true;
+    /// Where a node is divided into its four quarters and nothing below reads more of a box's
+    /// evaluation than f's enclosure (a list without min/max choices, not folded), the quarters'
+    /// boxes are evaluated in lanes of one batched walk, and the mean value forms they need in
+    /// lanes of one walk of the tangent list, instead of a walk per quarter: the same enclosures
+    /// and forms, bit for bit. Off: a walk per quarter.
+    bool children_in_lanes = true;
     /// The scans' walks in lanes (pieces, points, tiles, quarters, segment enclosures and forms)
     /// run in binary32 bounds (expr/eval_interval_batch.h: eight lanes per AVX2 instruction
     /// instead of four), each bound rounded outward, so that every enclosure holds the real values

@@ -659,6 +659,54 @@ TEST(Coherent, ThreadsAndMeanValueFormDoNotChangeAnswersAndMeanValueSavesWork) {
               solid_without.box_evals + solid_without.leaf_solves);
 }
 
+TEST(Coherent, QuartersInLanesAreTheQuartersWalkedOneByOne) {
+    // A node's four quarters evaluated in lanes of one walk, and their mean value forms in lanes
+    // of another (children_in_lanes), give each quarter the enclosure and form of its own walks
+    // bit for bit: with the forms tried on a fixed rule (mean_value_rays set, so no trial depends
+    // on the order of the tries), every answer, its enclosure and its evaluations are the same,
+    // and so are the images. Barth's sextic (pinhole, zero set) and Chmutov's (heightmap, solid),
+    // with the forms on boxes of up to 16 rays and on every box.
+    const expr::Tape barth(expr::load_graph_file((kScenes / "barth_sextic.vm").string()));
+    const expr::Tape chmutov(expr::load_graph_file((kScenes / "chmutov6.vm").string()));
+    for (int scene = 0; scene < 2; ++scene) {
+        CoherentOptions o = small_view(scene == 0 ? Projection::Pinhole : Projection::Ortho);
+        o.render.width = o.render.height = 96;
+        if (scene == 1) {
+            o.surface = Surface::Solid;
+            o.render.bounds = {{{-1, 1}, {-1, 1}, {-1, 1}}};
+        }
+        o.certified = image_solver_options();
+        o.depth_pixels = 0.5;
+        for (unsigned rays : {16u, 1000u}) {
+            o.mean_value_rays = rays;
+            std::vector<RayResult> lanes, alone;
+            CoherentStats with, without;
+            o.children_in_lanes = true;
+            const RenderResult a =
+                render_3d_coherent(scene == 0 ? barth : chmutov, o, &with, &lanes);
+            o.children_in_lanes = false;
+            const RenderResult b =
+                render_3d_coherent(scene == 0 ? barth : chmutov, o, &without, &alone);
+            const std::string where = (scene == 0 ? "Barth, " : "Chmutov, ") + std::to_string(rays);
+            ASSERT_EQ(lanes.size(), alone.size());
+            std::size_t differ = 0;
+            const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };  // NaN too
+            for (std::size_t k = 0; k < lanes.size(); ++k) {
+                differ += lanes[k].status != alone[k].status ||
+                          bits(lanes[k].t_lo) != bits(alone[k].t_lo) ||
+                          bits(lanes[k].t_hi) != bits(alone[k].t_hi) ||
+                          lanes[k].evals.total() != alone[k].evals.total();
+            }
+            EXPECT_EQ(differ, 0u) << where;
+            EXPECT_TRUE(a.image.rgb == b.image.rgb) << where;
+            EXPECT_EQ(with.box_evals, without.box_evals) << where;
+            EXPECT_EQ(with.boxes_excluded, without.boxes_excluded) << where;
+            EXPECT_GT(with.boxes_excluded, 0u) << where;
+            EXPECT_GT(a.stats.hit, 0u) << where;
+        }
+    }
+}
+
 TEST(Coherent, WideBoxFormsOnSmoothListsKeepTheAnswers) {
     // With mean_value_rays unset, boxes of more than 16 rays whose list is smooth get the mean
     // value form too (tried while it pays). On Chmutov's solid heightmap at image resolution some
@@ -901,6 +949,7 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     o.segment_forms = *rc::gen::arbitrary<bool>();
     o.monotone_segments = *rc::gen::arbitrary<bool>();
     o.segment_enclosures_first = *rc::gen::arbitrary<bool>();
+    o.children_in_lanes = *rc::gen::arbitrary<bool>();
     o.float_lanes = *rc::gen::arbitrary<bool>();  // binary32 walks, where the list is arithmetic
     o.fold_lists = *rc::gen::element(0u, 4u, 16u, 128u);  // 4: folded wherever it drops enough
     o.folded_together_rays = *rc::gen::element(0u, 64u, 1024u);  // nodes of up to 1024 rays
@@ -948,6 +997,7 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     o.segment_forms = *rc::gen::arbitrary<bool>();
     o.monotone_segments = *rc::gen::arbitrary<bool>();
     o.segment_enclosures_first = *rc::gen::arbitrary<bool>();
+    o.children_in_lanes = *rc::gen::arbitrary<bool>();
     o.fold_lists = *rc::gen::element(0u, 4u, 16u, 128u);
     o.folded_together_rays = *rc::gen::element(0u, 64u, 1024u);
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
