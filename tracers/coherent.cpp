@@ -321,6 +321,19 @@ class Walker {
     /// ray_form_lanes() takes the centre in a fifth lane of the same walk instead.
     bool tangent_form_lanes(const expr::TangentList& tl, const std::array<UpInterval, 3>& x,
                             const double* dc, UpInterval* g);
+    /// A mean value form as a line in t: for every ray of a node and every point t of its [a, b],
+    /// f(o + t·d) ∈ p + (t − tc)·q (ok: the form applies). mean_value() and ray_form() give it
+    /// beside the form's enclosure, which is that of the same terms grouped otherwise.
+    struct LinearForm {
+        UpInterval p, q;
+        double tc = 0;
+        bool ok = false;
+    };
+    /// [a, b] narrowed to where the line `lin` lets f vanish (the solid: be negative), for the
+    /// rays of a node whose box over [a, b] the form did not prove (upward mode held): the part
+    /// cut off at either end is proven free by the line's enclosure over it. Sets a > b where
+    /// the line proves the whole segment free. (CoherentOptions::clip_forms.)
+    void clip_to_line(const LinearForm& lin, double& a, double& b) const;
     /// The node mean value form's inputs and lanes (mean_value, split_screen): the box x of a
     /// node's rays over [a, b], its centre c = oc + tc·dc (rounded outward), and the form's
     /// gradient lanes g (tangent_form_lanes) and centre value m.
@@ -336,7 +349,8 @@ class Walker {
     /// The form from its lanes: m + Σ_k g_k·(O_k − oc_k) + T·Σ_k g_k·(D_k − dc_k) + g_3·(T − tc),
     /// empty where the lanes proved nothing.
     static UpInterval ray_form(const RayForm& f, double a, double b, const double* olo,
-                               const double* ohi, const double* dlo, const double* dhi);
+                               const double* ohi, const double* dlo, const double* dhi,
+                               LinearForm* lin = nullptr);
     /// The lanes of n forms (n ≤ kMaxForms) in one walk of `tl`: five lanes each, the centre's
     /// last.
     static constexpr int kMaxForms = 4;
@@ -391,7 +405,7 @@ class Walker {
     /// several rays in five lanes of one walk instead of a Dual<UpInterval, 3> walk; or null.
     UpInterval mean_value(const Ssa& list, double a, double b, const double* olo, const double* ohi,
                           const double* dlo, const double* dhi,
-                          const expr::TangentList* tl = nullptr);
+                          const expr::TangentList* tl = nullptr, LinearForm* lin = nullptr);
     /// What an enclosure F of f over a box proves for the surface asked for (Unusable: a form
     /// that does not apply, segment_form).
     enum class Proof { None, Excluded, Inside, Unusable };
@@ -410,6 +424,21 @@ class Walker {
         // f ≥ 0 wherever it is defined on the box: no point of the solid {f defined, f < 0}.
         if (f.is_empty() || f.lower() >= 0) return Proof::Excluded;
         return f.defined && f.upper() < 0 ? Proof::Inside : Proof::None;
+    }
+    /// What a node's mean value form `form` (empty: it does not apply) and its line `lin` give
+    /// a node over [a, b] that its box left undecided: `proven`, and [a, b] clipped to the line
+    /// (clip_forms). True where that paid: the box proven, or a quarter of [a, b] or more cut off.
+    bool take_form(const UpInterval& form, const LinearForm& lin, Proof& proven, double& a,
+                   double& b) {
+        if (!form.is_empty()) proven = proof(form);
+        if (proven != Proof::None) return true;
+        if (!lin.ok || !options_.clip_forms) return false;
+        const double width = b - a;
+        const double a0 = a, b0 = b;
+        clip_to_line(lin, a, b);
+        if (!(a <= b)) proven = Proof::Excluded;
+        stats.clipped += proven != Proof::None || a != a0 || b != b0;
+        return proven != Proof::None || b - a <= 0.75 * width;
     }
     /// Writes a Hit [lo, hi] into res.
     static void hit_of(RayResult& res, double lo, double hi) {
@@ -765,7 +794,7 @@ Walker::Proof Walker::piece_mean_value(const Ssa& list, const Ray& s, double p, 
 
 UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double* olo,
                               const double* ohi, const double* dlo, const double* dhi,
-                              const expr::TangentList* tl) {
+                              const expr::TangentList* tl, LinearForm* lin) {
     const UpInterval none = UpInterval::empty();
     using D = Dual<UpInterval, 3>;
     if (duals_.size() < list.size()) duals_.resize(list.size());
@@ -800,6 +829,7 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
         expr::detail::run<UpInterval>(list, c, centre_.data());
         UpInterval m = centre_[list.back().out];
         if (m.is_empty() || !m.defined) return none;
+        if (lin != nullptr) *lin = {m, g.v[0], tc, true};
         return m + g.v[0] * (t - UpInterval(tc));
     }
     // The form in the rays' own coordinates: for the point x = o + t·d of a ray of the node and
@@ -830,7 +860,7 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
                 form.m = centre_[list.back().out];
             }
         }
-        return ray_form(form, a, b, olo, ohi, dlo, dhi);
+        return ray_form(form, a, b, olo, ohi, dlo, dhi, lin);
     }
     std::array<D, 3> p;
     for (int k = 0; k < 3; ++k) {
@@ -856,6 +886,7 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
         across = across + g.v[k] * (UpInterval(dlo[k], dhi[k]) - UpInterval(dc[k]));
         along = along + g.v[k] * UpInterval(dc[k]);
     }
+    if (lin != nullptr) *lin = {m + UpInterval(tc) * across, across + along, tc, true};
     return m + t * across + along * (t - UpInterval(tc));
 }
 
@@ -1023,9 +1054,10 @@ void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr
     if (proven == Proof::None && try_mean_value(count, list, depth)) {
         const expr::TangentList* tl =
             tangent_kind(list, depth) == expr::TangentKind::Smooth ? tangent(list, depth) : nullptr;
-        const UpInterval m = mean_value(list, a, b, hull.olo, hull.ohi, hull.dlo, hull.dhi, tl);
-        if (!m.is_empty()) proven = proof(m);  // empty: the form does not apply
-        mean_value_tried(count, proven != Proof::None);
+        LinearForm lin;
+        const UpInterval m =
+            mean_value(list, a, b, hull.olo, hull.ohi, hull.dlo, hull.dhi, tl, &lin);
+        mean_value_tried(count, take_form(m, lin, proven, a, b));
     }
     descend(r, a, b, list, tape, depth, hull, proven);
 }
@@ -1161,9 +1193,9 @@ void Walker::split_screen(const Rect& r, double a, double b, const Ssa& list,
             z.form = forms++;
             continue;
         }
-        const UpInterval f = mean_value(list, z.a, z.b, h.olo, h.ohi, h.dlo, h.dhi, tl);
-        if (!f.is_empty()) z.proven = proof(f);
-        mean_value_tried(h.count, z.proven != Proof::None);
+        LinearForm lin;
+        const UpInterval f = mean_value(list, z.a, z.b, h.olo, h.ohi, h.dlo, h.dhi, tl, &lin);
+        mean_value_tried(h.count, take_form(f, lin, z.proven, z.a, z.b));
     }
     if (forms > 0) {
         ray_form_lanes(*tl, forms_, forms);
@@ -1175,9 +1207,10 @@ void Walker::split_screen(const Rect& r, double a, double b, const Ssa& list,
             stats.box_instructions += 2 * list.size();
             ++evals.gradient;
             ++evals.interval;
-            const UpInterval f = ray_form(forms_[z.form], z.a, z.b, h.olo, h.ohi, h.dlo, h.dhi);
-            if (!f.is_empty()) z.proven = proof(f);
-            mean_value_tried(h.count, z.proven != Proof::None);
+            LinearForm lin;
+            const UpInterval f =
+                ray_form(forms_[z.form], z.a, z.b, h.olo, h.ohi, h.dlo, h.dhi, &lin);
+            mean_value_tried(h.count, take_form(f, lin, z.proven, z.a, z.b));
         }
     }
     for (int l = 0; l < m; ++l) {
@@ -1306,7 +1339,8 @@ void Walker::prepare_form(RayForm& f, double a, double b, const double* olo, con
 }
 
 UpInterval Walker::ray_form(const RayForm& f, double a, double b, const double* olo,
-                            const double* ohi, const double* dlo, const double* dhi) {
+                            const double* ohi, const double* dlo, const double* dhi,
+                            LinearForm* lin) {
     UpInterval m = f.m;
     if (!f.ok || m.is_empty() || !m.defined) return UpInterval::empty();
     const UpInterval t(a, b);
@@ -1315,7 +1349,68 @@ UpInterval Walker::ray_form(const RayForm& f, double a, double b, const double* 
         m = m + f.g[k] * (UpInterval(olo[k], ohi[k]) - UpInterval(f.oc[k]));
         across = across + f.g[k] * (UpInterval(dlo[k], dhi[k]) - UpInterval(f.dc[k]));
     }
+    if (lin != nullptr) {
+        // At a point t, t·G·(d − dc) lies in tc·across + (t − tc)·across: the line's terms.
+        *lin = {m + UpInterval(f.tc) * across, across + f.g[3], f.tc, true};
+    }
     return m + t * across + f.g[3] * (t - UpInterval(f.tc));
+}
+
+void Walker::clip_to_line(const LinearForm& lin, double& a, double& b) const {
+    // u = t − tc runs over [u0, u1] ⊇ [a − tc, b − tc]; over a sub-range U of it the line's
+    // values are p + U·q, exactly the interval product's (each of p, q, u occurs once), which
+    // proves a part free as a box's enclosure does. Where the line may vanish is found in plain
+    // doubles (a guess); each cut is kept only where p + U·q over the part cut off proves it.
+    const UpInterval& p = lin.p;
+    const UpInterval& q = lin.q;
+    if (p.is_empty() || q.is_empty() || !std::isfinite(p.lower()) || !std::isfinite(p.upper()) ||
+        !std::isfinite(q.lower()) || !std::isfinite(q.upper())) {
+        return;
+    }
+    const double u0 = -(lin.tc - a), u1 = b - lin.tc;  // rounded down, and up (upward mode)
+    if (!(u0 < u1)) return;
+    const auto may = [&](double u) {  // the line may vanish (the solid: be negative) at u
+        const double lo = p.lower() + std::min(u * q.lower(), u * q.upper());
+        const double hi = p.upper() + std::max(u * q.lower(), u * q.upper());
+        return solid_ ? lo < 0 : lo <= 0 && 0 <= hi;
+    };
+    // Its ends lie among the roots of the bounds' lines (on u ≥ 0 and on u ≤ 0 each bound is one).
+    double cut[7] = {u0, u1};
+    int n = 2;
+    const auto add = [&](double u) {
+        if (u > u0 && u < u1) cut[n++] = u;
+    };
+    if (u0 < 0 && u1 > 0) add(0);
+    for (const double c : {q.lower(), q.upper()}) {
+        if (c == 0) continue;
+        add(-p.lower() / c);
+        if (!solid_) add(-p.upper() / c);
+    }
+    for (int k = 1; k < n; ++k) {  // a handful: insertion
+        for (int l = k; l > 0 && cut[l] < cut[l - 1]; --l) std::swap(cut[l], cut[l - 1]);
+    }
+    int first = -1, last = -1;  // the first and last cuts where it may vanish, or just after
+    for (int k = 0; k < n; ++k) {
+        const bool here = may(cut[k]) || (k + 1 < n && may(0.5 * cut[k] + 0.5 * cut[k + 1]));
+        const bool before = may(cut[k]) || (k > 0 && may(0.5 * cut[k - 1] + 0.5 * cut[k]));
+        if (here && first < 0) first = k;
+        if (before) last = k;
+    }
+    const double margin = 1e-6 * (u1 - u0);
+    const auto free = [&](double lo, double hi) {
+        return lo <= hi && proof(p + UpInterval(lo, hi) * q) == Proof::Excluded;
+    };
+    if (first < 0 || last < 0) {
+        if (free(u0, u1)) a = kInf, b = -kInf;  // (a guess proven: no point of it may vanish)
+        return;
+    }
+    const double front = cut[first] - margin, back = cut[last] + margin;
+    if (cut[first] > u0 && front > u0 && free(u0, front)) {
+        a = std::max(a, -(-lin.tc - front));  // tc + front rounded down
+    }
+    if (cut[last] < u1 && back < u1 && free(back, u1)) {
+        b = std::min(b, lin.tc + back);  // rounded up
+    }
 }
 
 void Walker::ray_form_lanes(const expr::TangentList& tl, RayForm* forms, int n) {
@@ -2053,6 +2148,23 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
                 // decide_monotone() needs: docs/theory/coherent.md).
                 monotone_.push_back({form_of_[l], z.s.tmin, z.s.tmax, 0, g1.upper() < 0,
                                      midpoint(UpInterval(z.s.tmin, z.s.tmax)), quarter_points_[l]});
+            } else if (options_.clip_forms && e.defined && finite(g1) &&
+                       !quarter_points_[l].is_empty() && quarter_points_[l].defined) {
+                // The form as a line in t narrows the segment its pieces cover.
+                const LinearForm lin{quarter_points_[l], g1,
+                                     midpoint(UpInterval(z.s.tmin, z.s.tmax)), true};
+                const int before = pieces_of(z.s, piece_width(z.s));
+                double lo = z.s.tmin, hi = z.s.tmax;
+                clip_to_line(lin, lo, hi);
+                stats.clipped += lo != z.s.tmin || hi != z.s.tmax;
+                if (!(lo <= hi)) {
+                    spared += prove_free(z);
+                } else {
+                    z.s.tmin = lo;
+                    z.s.tmax = hi;
+                    spared += static_cast<std::size_t>(
+                        std::max(0, before - pieces_of(z.s, piece_width(z.s))));
+                }
             }
         }
         spared += decide_monotone(list, level);
@@ -2457,6 +2569,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.folds += s.folds;
         total.folded_instructions += s.folded_instructions;
         total.folded_scans += s.folded_scans;
+        total.clipped += s.clipped;
     }
     if (stats != nullptr) *stats = total;
     if (!colour_tiles) {

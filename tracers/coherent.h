@@ -164,6 +164,11 @@ struct CoherentOptions {
     /// lanes of one walk of the tangent list, instead of a walk per quarter: the same enclosures
     /// and forms, bit for bit. Off: a walk per quarter.
     bool children_in_lanes = true;
+    /// Where a node's mean value form does not prove its box, the form read as a line in t
+    /// (f ∈ p + (t − tc)·q on every ray of the node) narrows the node's [a, b] to where that line
+    /// may vanish (the solid: be negative); each part cut off is proven free by the line's
+    /// enclosure over it. Off: the node keeps its [a, b].
+    bool clip_forms = true;
     /// The scans' walks in lanes (pieces, points, tiles, quarters, segment enclosures and forms)
     /// run in binary32 bounds (expr/eval_interval_batch.h: eight lanes per AVX2 instruction
     /// instead of four), each bound rounded outward, so that every enclosure holds the real values
@@ -227,6 +232,9 @@ struct CoherentStats {
     std::uint64_t folded_instructions = 0;
     /// scans of more rays than together_rays allows, on a folded list (folded_together_rays)
     std::uint64_t folded_scans = 0;
+    /// node boxes and scanned segments whose parameter range the line of their mean value form
+    /// narrowed (or proved free where the form's own enclosure did not; clip_forms)
+    std::uint64_t clipped = 0;
     std::uint64_t tape_length = 0;  ///< instructions of the full tape
 };
 
