@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -49,6 +51,104 @@ Ray CameraFrame::ray(double px, double py) const {
     r.tmin = 0;
     r.tmax = std::numeric_limits<double>::infinity();
     return r;
+}
+
+namespace {
+
+constexpr int kRow = 8;  ///< rays per call of the vector code (an AVX-512 vector)
+using V8 = double __attribute__((vector_size(8 * kRow)));
+using M8 = std::int64_t __attribute__((vector_size(8 * kRow)));
+using U8 = std::uint64_t __attribute__((vector_size(8 * kRow)));
+
+/// The inputs of eight rays of a row (CameraFrame::clipped_row), and what they come to.
+struct Row8 {
+    double u[kRow];   ///< (px − half_w)·scale of each
+    double v;         ///< (half_h − py)·scale
+    double frame[9];  ///< forward, right, up
+    double eye[3];
+    double box[6];  ///< x0, x1, y0, y1, z0, z1
+    double d[3][kRow], t0[kRow], t1[kRow];
+    std::int64_t odd[kRow];  ///< nonzero: a lane the vectors do not take (redone one by one)
+};
+
+/// CameraFrame::ray's direction and clip_ray's slabs for eight rays, with the scalar code's
+/// operations in its order (IEEE arithmetic: the same bits). A lane where a branch of the
+/// scalar code is not the common one (a zero length or direction component, a slab parameter
+/// outside step_up's integer range) is marked odd.
+[[gnu::target_clones("avx512f", "avx2", "default")]] void row8(Row8& r) {
+    V8 u, x[3];
+    std::memcpy(&u, r.u, sizeof u);
+    const double* f = r.frame;
+    for (int c = 0; c < 3; ++c) x[c] = f[c] + u * f[3 + c] + r.v * f[6 + c];
+    const V8 n2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+    V8 n;
+    for (int k = 0; k < kRow; ++k) n[k] = std::sqrt(n2[k]);
+    M8 odd = ~(n > 0) | ~(n < std::numeric_limits<double>::infinity());  // masks: 0 or −1
+    const V8 inf = V8{} + std::numeric_limits<double>::infinity();
+    V8 t0 = V8{}, t1 = inf;
+    const U8 four = U8{} + 4;
+    for (int c = 0; c < 3; ++c) {
+        const V8 d = x[c] / n;
+        std::memcpy(r.d[c], &d, sizeof d);
+        odd |= d == 0;
+        V8 ta = (r.box[2 * c] - r.eye[c]) / d, tb = (r.box[2 * c + 1] - r.eye[c]) / d;
+        const M8 swap = ta > tb;
+        const V8 lo = swap ? tb : ta, hi = swap ? ta : tb;
+        const V8 alo = lo < 0 ? -lo : lo, ahi = hi < 0 ? -hi : hi;
+        odd |= ~(alo >= 0x1p-1000) | ~(alo <= 0x1p1000) | ~(ahi >= 0x1p-1000) | ~(ahi <= 0x1p1000);
+        // step_down(lo, 4) and step_up(hi, 4) in their integer range: 4 ulps away from 0 (up)
+        // or towards it, as the sign says.
+        const U8 blo = (U8)lo, bhi = (U8)hi;  // a cast of vectors keeps the bits
+        const U8 slo = lo > 0 ? blo - four : blo + four;
+        const U8 shi = hi > 0 ? bhi + four : bhi - four;
+        ta = (V8)slo;
+        tb = (V8)shi;
+        t0 = t0 < ta ? ta : t0;  // std::max(t0, ta)
+        t1 = tb < t1 ? tb : t1;  // std::min(t1, tb)
+    }
+    std::memcpy(r.t0, &t0, sizeof t0);
+    std::memcpy(r.t1, &t1, sizeof t1);
+    std::memcpy(r.odd, &odd, sizeof odd);
+}
+
+}  // namespace
+
+void CameraFrame::clipped_row(unsigned i0, unsigned j, unsigned n, const Box3& box, Ray* rays,
+                              bool* in) const {
+    Row8 r;
+    r.v = (half_h_ - (j + 0.5)) * scale_;
+    for (int c = 0; c < 3; ++c) {
+        r.frame[c] = forward_[c];
+        r.frame[3 + c] = right_[c];
+        r.frame[6 + c] = up_[c];
+        r.eye[c] = eye_[c];
+        r.box[2 * c] = box[c][0];
+        r.box[2 * c + 1] = box[c][1];
+    }
+    for (unsigned k0 = 0; k0 < n; k0 += kRow) {
+        const unsigned m = std::min<unsigned>(kRow, n - k0);
+        for (unsigned k = 0; k < kRow; ++k) {
+            r.u[k] = ((i0 + k0 + std::min(k, m - 1)) + 0.5 - half_w_) * scale_;
+        }
+        row8(r);
+        for (unsigned k = 0; k < m; ++k) {
+            Ray& ray = rays[k0 + k];
+            if (r.odd[k] != 0) {
+                ray = this->ray(i0 + k0 + k + 0.5, j + 0.5);
+                in[k0 + k] = clip_ray(ray, box);
+                continue;
+            }
+            ray.o = eye_;
+            ray.d = {r.d[0][k], r.d[1][k], r.d[2][k]};
+            ray.tmin = r.t0[k];
+            ray.tmax = r.t1[k];
+            in[k0 + k] = r.t0[k] <= r.t1[k];
+            if (!in[k0 + k]) {
+                ray.tmin = 0;  // as clip_ray leaves a ray that misses the box
+                ray.tmax = std::numeric_limits<double>::infinity();
+            }
+        }
+    }
 }
 
 bool clip_ray(Ray& ray, const Box3& box) {

@@ -41,6 +41,11 @@ class CameraFrame {
     /// The ray through image point (px, py) in pixels from the top-left corner (pixel (i, j)
     /// has its centre at (i + 0.5, j + 0.5)); unit direction, tmin 0, tmax ∞.
     Ray ray(double px, double py) const;
+    /// The rays of pixels (i0 + k, j), k < n, clipped to `box`: rays[k] and in[k] are, bit for
+    /// bit, ray(i0 + k + 0.5, j + 0.5) and what clip_ray does to it, computed eight at a time
+    /// (vectors where the machine has them). The caller holds round-to-nearest.
+    void clipped_row(unsigned i0, unsigned j, unsigned n, const Box3& box, Ray* rays,
+                     bool* in) const;
     const Vec3& eye() const { return eye_; }
     const Vec3& forward() const { return forward_; }
     const Vec3& right() const { return right_; }

@@ -11,6 +11,7 @@
 #include <array>
 #include <atomic>
 #include <bit>
+#include <boost/container/vector.hpp>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -583,6 +584,8 @@ class Walker {
     expr::PruneWorkspace prune_ws_;
     Rect root_{0, 0, 0, 0};
     std::vector<Px> px_;
+    std::vector<Ray> row_rays_;  ///< tile()'s rays of a row, and which meet the bounds
+    boost::container::vector<bool> row_in_;
     std::uint64_t answered_ = 0;  ///< rays answered so far (hulls taken before are stale)
     std::vector<Dual<UpInterval, 3>> duals_;
     std::vector<Dual<UpInterval, 1>> duals1_;
@@ -914,11 +917,15 @@ void Walker::tile(const Rect& r) {
     double a = kInf, b = -kInf;
     {
         NearestScope env;  // one switch for the tile's rays
+        row_rays_.resize(r.w);
+        row_in_.resize(r.w);
         for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
+            rays_.row_in_scope(r.i0, j, r.w, row_rays_.data(), row_in_.data());
             for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
                 Px& p = px(i, j);
+                p.ray = row_rays_[i - r.i0];
                 // A ray that misses the bounds: Miss, no evaluation.
-                p.open = rays_.ray_in_scope(i, j, p.ray);
+                p.open = row_in_[i - r.i0];
                 if (!p.open) continue;
                 a = std::min(a, p.ray.tmin);
                 b = std::max(b, p.ray.tmax);
@@ -2454,6 +2461,14 @@ bool PixelRays::ray_in_scope(unsigned i, unsigned j, Ray& ray) const {
     ray.tmin = 0;
     ray.tmax = tmax_;
     return true;
+}
+
+void PixelRays::row_in_scope(unsigned i0, unsigned j, unsigned n, Ray* rays, bool* in) const {
+    if (projection_ == Projection::Pinhole) {
+        frame_->clipped_row(i0, j, n, bounds_, rays, in);
+        return;
+    }
+    for (unsigned k = 0; k < n; ++k) in[k] = ray_in_scope(i0 + k, j, rays[k]);
 }
 
 RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& options,

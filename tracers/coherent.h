@@ -257,6 +257,9 @@ class PixelRays {
     bool ray(unsigned i, unsigned j, Ray& ray) const;
     /// ray() for a caller that holds a NearestScope (one for a whole tile of pixels).
     bool ray_in_scope(unsigned i, unsigned j, Ray& ray) const;
+    /// ray_in_scope() for pixels (i0 + k, j), k < n: rays[k] and in[k] (the pinhole's eight
+    /// at a time, CameraFrame::clipped_row: the same bits).
+    void row_in_scope(unsigned i0, unsigned j, unsigned n, Ray* rays, bool* in) const;
     /// The widest angle (pinhole) or distance (ortho) between neighbouring pixel rays.
     double pixel_pitch() const { return pitch_; }
     Projection projection() const { return projection_; }

@@ -7,12 +7,16 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "expr/parser.h"
 #include "expr/tape.h"
@@ -245,6 +249,64 @@ TEST(Camera, ClipRayToBounds) {
     beside.o = {3, 0, 0};
     beside.d = {0, 0, 1};
     EXPECT_FALSE(clip_ray(beside, box));
+}
+
+TEST(Camera, ClippedRowsAreTheRaysOneByOne) {
+    // CameraFrame::clipped_row computes a row's rays eight at a time: each is, bit for bit,
+    // CameraFrame::ray then clip_ray, and meets the bounds when clip_ray says so. Cameras with
+    // pixels whose direction has zero components (an odd image looking down an axis), eyes inside
+    // and outside the bounds, rays that miss them, slab parameters beyond step_up's integer
+    // range (bounds of 1e300, and of 1e-305 around the eye), rows that are not multiples of 8.
+    const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+    struct View {
+        Camera camera;
+        Box3 bounds;
+        unsigned width, height;
+    };
+    const Box3 unit{{{-1, 1}, {-1, 1}, {-1, 1}}};
+    std::vector<View> views = {
+        {{{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 35}, unit, 33, 17},         // straight down −z
+        {{{4, -8, 3.2}, {0, 0, 0}, {0, 0, 1}, 35}, unit, 45, 30},      // the default view
+        {{{0.2, 0.1, -0.3}, {1, 2, 3}, {0, 0, 1}, 60}, unit, 19, 11},  // eye inside
+        {{{9, 0, 0}, {0, 0, 0}, {0, 0, 1}, 120}, unit, 21, 21},        // most rays miss
+        {{{3, -1, 2}, {0, 0, 0}, {0, 0, 1}, 20},
+         {{{-1e300, 1e300}, {-1e300, 1e300}, {-1e300, 1e300}}},
+         13,
+         9},
+        {{{1e-3, 2e-3, 5e-4}, {1, 1, 1}, {0, 0, 1}, 35},
+         {{{1e-3 - 1e-305, 1e-3 + 1e-305},
+           {2e-3 - 1e-305, 2e-3 + 1e-305},
+           {5e-4 - 1e-305, 5e-4 + 1e-305}}},
+         11,
+         7},
+    };
+    std::size_t lanes = 0, inside = 0;
+    for (const View& view : views) {
+        const CameraFrame frame(view.camera, view.width, view.height);
+        std::vector<Ray> row(view.width);
+        std::unique_ptr<bool[]> in(new bool[view.width]);
+        for (unsigned j = 0; j < view.height; ++j) {
+            for (unsigned i0 : {0u, 3u}) {
+                const unsigned n = view.width - i0;
+                frame.clipped_row(i0, j, n, view.bounds, row.data(), in.get());
+                for (unsigned k = 0; k < n; ++k) {
+                    Ray one = frame.ray(i0 + k + 0.5, j + 0.5);
+                    const bool meets = clip_ray(one, view.bounds);
+                    ++lanes;
+                    inside += meets;
+                    EXPECT_EQ(in[k], meets) << i0 + k << ", " << j;
+                    EXPECT_EQ(bits(row[k].tmin), bits(one.tmin)) << i0 + k << ", " << j;
+                    EXPECT_EQ(bits(row[k].tmax), bits(one.tmax)) << i0 + k << ", " << j;
+                    for (int c = 0; c < 3; ++c) {
+                        EXPECT_EQ(bits(row[k].o[c]), bits(one.o[c])) << i0 + k << ", " << j;
+                        EXPECT_EQ(bits(row[k].d[c]), bits(one.d[c])) << i0 + k << ", " << j;
+                    }
+                }
+            }
+        }
+    }
+    EXPECT_GT(inside, lanes / 4);
+    EXPECT_LT(inside, lanes);
 }
 
 TEST(Camera, SurfaceExtentEnclosesTheSurface) {
