@@ -536,8 +536,8 @@ class Walker {
     /// worth their cost (about four box evaluations) while they win: the first 16 tries, then
     /// one in eight when they do not.
     PayingTrial<16, 8> mean_values_;
-    /// This root tile's tile pieces (scan_together; a win: the rays were spared at least four
-    /// times as many pieces of their own as the tile pieces cost): the first 4, then one in 16.
+    /// This root tile's tile pieces (scan_together; a win: they answered a ray, or proved every
+    /// ray of the node free): the first 4, then one in 16.
     PayingTrial<4, 16> tile_trial_;
     /// This root tile's mean value forms in lanes on lists with kinks (scan_together; a win: they
     /// proved at least half the pieces they were taken on): the first 4, then one in 16 (the
@@ -613,6 +613,8 @@ class Walker {
     static constexpr std::size_t kLongList = 200;
     /// At most this many pieces a leaf segment is scanned in; longer ones go to the solver.
     static constexpr int kMaxPieces = 8;
+    /// The lanes of a binary32 vector on AVX-512 (tile pieces' trial: what a walk's vector holds).
+    static constexpr int kWalkLanes = 16;
     /// fold(): the subexpressions at most this fraction of f's width over the node's box wide
     /// become inputs (CoherentOptions::fold_lists) ...
     static constexpr double kFoldWidth = 1e-3;
@@ -1699,6 +1701,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
     pieces_.clear();
     level.scanned.clear();
     std::size_t decided = 0;  // rays the tile pieces answered
+    std::size_t cleared = 0;  // rays the tile pieces answered or proved free on [a, b]
     int saved = 0;            // pieces of the rays' own that the tile pieces made unnecessary
     for (const Segment& g : segments_) {
         Ray s = px(g.i, g.j).ray;
@@ -1707,7 +1710,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         RayResult res;
         res.status = Status::Miss;
         if (tiles > 0) {
-            saved += pieces_of(s, piece_width(s));
+            const int before = pieces_of(s, piece_width(s));
             int k = 0;
             while (k < tiles && tile_t_[k + 1] <= s.tmin) ++k;  // the piece holding s.tmin
             for (; k < tiles && tile_t_[k] < s.tmax; ++k) {
@@ -1740,6 +1743,9 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
             if (k == tiles || !(tile_t_[k] < s.tmax)) {
                 s.tmin = s.tmax;  // every piece it meets proven free: Miss on [a, b]
             }
+            const bool clear = res.status != Status::Miss || !(s.tmin < s.tmax);
+            cleared += clear;
+            saved += before - (clear ? 0 : pieces_of(s, piece_width(s)));
         }
         level.scanned.push_back({g.i, g.j, s, res, 0, 0});
     }
@@ -1751,7 +1757,6 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         if (z.res.status == Status::Miss && z.s.tmin < z.s.tmax) {
             const double w = piece_width(z.s);
             const int n = pieces_of(z.s, w);
-            if (tiles > 0) saved -= n;
             for (int k = 0; k < n; ++k) {
                 const auto [lo, hi] = piece(z.s, w, k, n);
                 if (lo < hi) pieces_.push_back({z.i, z.j, lo, hi});
@@ -1759,7 +1764,12 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         }
         z.end = pieces_.size();
     }
-    tile_trial_.wins += tiles > 0 && saved >= 4 * tiles;
+    // A win: the tile pieces answered a ray, left none of the node's rays to scan (the pieces'
+    // walks and their points and forms spared), or spared four vectors' worth of pieces. A few
+    // pieces spared do not pay: a walk costs about the same for a few lanes fewer
+    // (docs/benchmarks.md, session 22).
+    tile_trial_.wins +=
+        tiles > 0 && (decided > 0 || cleared == segments_.size() || saved >= 4 * kWalkLanes);
     // Every piece's enclosure, in one batched evaluation.
     const std::size_t n = pieces_.size();
     if (lanes_.size() < n) lanes_.resize(n);

@@ -330,7 +330,9 @@ TEST(Coherent, TilePiecesAnswerFlatFacesWithTheRootOfMathematics) {
                         << where << " " << k;
                 }
                 if (variant == 0) {
-                    EXPECT_GT(stats.tile_decided, std::size_t{side} * side / 4) << where;
+                    // A quarter of the rays at least (at 32², where each root tile tries the tile
+                    // pieces while they answer rays: 256 of 1,024 rays; at 128², 43%).
+                    EXPECT_GE(stats.tile_decided, std::size_t{side} * side / 4) << where;
                 } else if (variant == 1) {
                     EXPECT_EQ(stats.tile_pieces, 0u) << where;
                 } else {
