@@ -299,15 +299,12 @@ class Walker {
     /// strictly monotone ones go to decide_monotone().
     void take_segment_forms(const Ssa& list, unsigned depth, Level& level);
     /// The strictly monotone segments in monotone_, decided by points of `list`: proven free,
-    /// answered (a Hit a piece deep), or left to their pieces from the bracket's lo. Returns the
-    /// pieces they spared.
-    std::size_t decide_monotone(const Ssa& list, Level& level);
-    /// Ray z's segment proven free (no pieces; counted in stats): returns the pieces it spared.
-    std::size_t prove_free(Level::Scanned& z) {
-        const auto spared = static_cast<std::size_t>(pieces_of(z.s, piece_width(z.s)));
+    /// answered (a Hit a piece deep), or left to their pieces from the bracket's lo.
+    void decide_monotone(const Ssa& list, Level& level);
+    /// Ray z's segment proven free (no pieces; counted in stats).
+    void prove_free(Level::Scanned& z) {
         z.s.tmin = z.s.tmax;
         ++stats.segment_forms;
-        return spared;
     }
     /// Enclosures of `list` over the boxes boxes[0, n) into out[0, n); with `fold`, of its
     /// folded list where it has one (Level::folded: the boxes must lie in its node's box).
@@ -552,10 +549,6 @@ class Walker {
     /// proved at least half the pieces they were taken on): the first 4, then one in 16 (the
     /// molecule's forms prove 16% of such pieces, the bear's 67%).
     PayingTrial<4, 16> kink_forms_;
-    /// This root tile's segment forms (scan_together, CoherentOptions::segment_forms; a win: the
-    /// pieces of the segments they proved free or bracketed cost a third more than the forms):
-    /// the first 4, then while half of them win, else one in 16.
-    PayingTrial<4, 16, 2> segment_forms_;
     /// The root tile's segment forms so far: segments tried, and those their plain enclosure
     /// proved free (take_segment_forms() walks those enclosures first while that is 3 in 10).
     std::size_t plain_tried_ = 0, plain_free_ = 0;
@@ -910,7 +903,6 @@ void Walker::tile(const Rect& r) {
     wide_forms_.reset();
     tile_trial_.reset();
     kink_forms_.reset();
-    segment_forms_.reset();
     plain_tried_ = plain_free_ = 0;
     fold_trial_.reset();
     root_box_.reset();
@@ -2090,8 +2082,7 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
     if (!options_.segment_forms || list.size() < kSegmentFormList) return;
     const expr::TangentKind kind = lane_tangent_kind(list, depth, level);
     if (kind == expr::TangentKind::None ||
-        (kind == expr::TangentKind::Kinked && level.folded.list.empty()) ||
-        !segment_forms_.attempt()) {
+        (kind == expr::TangentKind::Kinked && level.folded.list.empty())) {
         return;
     }
     const expr::TangentList& tl = *lane_tangent(list, depth, level);
@@ -2115,7 +2106,6 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
         points_.push_back(lane_box(full, tc, tc));
         dirs_.push_back(full.d);
     }
-    std::size_t spared = 0;  // pieces of the segments decided
     // On a folded list, where the segments' plain enclosures prove enough of them free (3 in 10
     // in the root tile so far, from the forms' own value lanes until then), those enclosures
     // come first, one walk of the list, and only the segments they leave walk the tangent list
@@ -2136,7 +2126,7 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
             ++z.res.evals.interval;
             if (proof(lane_values_[l]) == Proof::Excluded) {
                 ++plain_free_;
-                spared += prove_free(z);
+                prove_free(z);
                 continue;
             }
             form_of_[rest] = form_of_[l];
@@ -2163,7 +2153,7 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
             plain_free_ += plain;
             if (plain || segment_form(e, g1, quarter_points_[l], z.s.tmin, z.s.tmax, z.res) ==
                              Proof::Excluded) {
-                spared += prove_free(z);
+                prove_free(z);
             } else if (options_.monotone_segments && e.defined && finite(g1) &&
                        (g1.lower() > 0 || g1.upper() < 0)) {
                 // g′ (Clarke's at kinks) keeps one strict sign: g is strictly monotone (on a
@@ -2176,32 +2166,22 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
                 // The form as a line in t narrows the segment its pieces cover.
                 const LinearForm lin{quarter_points_[l], g1,
                                      midpoint(UpInterval(z.s.tmin, z.s.tmax)), true};
-                const int before = pieces_of(z.s, piece_width(z.s));
                 double lo = z.s.tmin, hi = z.s.tmax;
                 clip_to_line(lin, lo, hi);
                 stats.clipped += lo != z.s.tmin || hi != z.s.tmax;
                 if (!(lo <= hi)) {
-                    spared += prove_free(z);
+                    prove_free(z);
                 } else {
                     z.s.tmin = lo;
                     z.s.tmax = hi;
-                    spared += static_cast<std::size_t>(
-                        std::max(0, before - pieces_of(z.s, piece_width(z.s))));
                 }
             }
         }
-        spared += decide_monotone(list, level);
+        decide_monotone(list, level);
     }
-    // A win: the pieces spared (segments proven free or bracketed) cost a third more than the
-    // forms (instructions times lanes; the forms' walks and bookkeeping cost more than their lanes
-    // say).
-    const std::size_t plain_lanes = plain_first ? tried : 0;
-    segment_forms_.wins +=
-        3 * spared * list.size() >=
-        4 * (plain_lanes * list.size() + form_of_.size() * (tl.list.size() + list.size()));
 }
 
-std::size_t Walker::decide_monotone(const Ssa& list, Level& level) {
+void Walker::decide_monotone(const Ssa& list, Level& level) {
     // g at the middle tc and at one end (one batched walk; below). Points of one strict sign (the
     // solid: both ≥ 0) prove the part between them free; points of strict opposite signs (the
     // zero set) hold a zero (exactly one unless the list is folded), bracketed by halving [lo, hi]
@@ -2209,7 +2189,7 @@ std::size_t Walker::decide_monotone(const Ssa& list, Level& level) {
     // lo (g keeps g(lo)'s strict sign on [a, lo]). The solid's g decreasing from g(lo) ≥ 0 to
     // g(hi) < 0 enters once, bracketed alike. A midpoint whose sign is not proven ends the
     // halving: the ray is scanned in pieces from lo.
-    if (monotone_.empty()) return 0;
+    if (monotone_.empty()) return;
     // The side of a value: the solid's ≥ 0 (1) or < 0 (−1), the zero set's strict sign; 0: not
     // proven.
     const auto side = [&](const UpInterval& v) {
@@ -2236,9 +2216,8 @@ std::size_t Walker::decide_monotone(const Ssa& list, Level& level) {
         monotone_[open++] = mo;
     }
     monotone_.resize(open);
-    if (open == 0) return 0;
+    if (open == 0) return;
     eval_lanes(list, points_.data(), points_.size(), quarter_points_, &level);
-    std::size_t spared = 0;
     open = 0;
     for (std::size_t k = 0; k < monotone_.size(); ++k) {
         Monotone& mo = monotone_[k];
@@ -2263,11 +2242,10 @@ std::size_t Walker::decide_monotone(const Ssa& list, Level& level) {
             z.s.tmin = mo.tc;  // free before tc: its pieces from there
         }
         if (free) {
-            spared += prove_free(z);
+            prove_free(z);
             continue;
         }
         if (!bracket) continue;
-        spared += static_cast<std::size_t>(pieces_of(z.s, piece_width(z.s)));
         monotone_[open++] = mo;
     }
     monotone_.resize(open);
@@ -2309,7 +2287,6 @@ std::size_t Walker::decide_monotone(const Ssa& list, Level& level) {
         }
         monotone_.resize(open);
     }
-    return spared;
 }
 
 void Walker::inside(const Rect& r, double a, double b, const Ssa& list) {
