@@ -104,9 +104,12 @@ struct CoherentOptions {
     /// piece of every ray one lane of one batched interval evaluation (docs/theory/coherent.md,
     /// "Scanning rays together"); a leaf of one ray is scanned in lanes the same way. 0: each
     /// ray scanned alone, piece by piece, at the end of the descent (the reference the lanes are
-    /// tested against). 8 measured best of 4–64 on Barth's sextic, the tanglecube, Chmutov's
-    /// sextic and Fidget's bear and colonnade (docs/benchmarks.md).
-    unsigned together_rays = 8;
+    /// tested against). 8 had measured best of 4–64 on Barth's sextic, the tanglecube, Chmutov's
+    /// sextic and Fidget's bear and colonnade (session 10); 16 since session 22, on a machine
+    /// whose batch walks take 16 binary32 lanes a vector and with segment forms on folded lists:
+    /// the colonnade's heightmaps 0.90–0.91 of the time, csg.expr 0.86–0.92, the bear 1.00
+    /// (docs/benchmarks.md).
+    unsigned together_rays = 16;
     /// together_rays where the node's list has a tangent list (expr/tangent.h) and
     /// lane_mean_value is on: the pieces' mean value forms in lanes make wider scans pay. 16
     /// measured best of 4–32 on Barth's sextic, the tanglecube and Chmutov's sextic (–10 to
