@@ -623,8 +623,9 @@ class Walker {
     /// ... where the folded list's enclosure at the box's centre is at most this fraction of it.
     static constexpr double kFoldCentre = 1e-3;
     /// A segment of at least this many pieces gets its segment form (CoherentOptions::
-    /// segment_forms).
-    static constexpr int kSegmentFormPieces = 4;
+    /// segment_forms; 4 until session 22: the lanes of a walk cost little next to the walk, and
+    /// with 2 Chmutov's heightmap takes 0.90 of the time).
+    static constexpr int kSegmentFormPieces = 2;
     /// ... and a list of at least this many instructions (the colonnade's pruned lists of about
     /// 10 took 10% longer with the forms alone at any length; with the monotone segments, lists of
     /// 8 and more pay or break even: docs/benchmarks.md, session 16).
@@ -2093,8 +2094,8 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
     monotone_.clear();
     for (std::size_t ray = 0; ray < level.scanned.size(); ++ray) {
         const Level::Scanned& z = level.scanned[ray];
-        // A form costs about what 4 pieces do (a walk of the tangent list and one of the list);
-        // shorter segments keep their pieces.
+        // A form costs two lanes (one of the tangent list, one of the list) in walks that run
+        // anyway; a segment of one piece keeps its piece.
         if (z.res.status != Status::Miss || !(z.s.tmin < z.s.tmax) ||
             pieces_of(z.s, piece_width(z.s)) < kSegmentFormPieces) {
             continue;

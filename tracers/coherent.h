@@ -143,7 +143,7 @@ struct CoherentOptions {
     /// 8 instructions), or on a list with kinks that fold_lists folded (Clarke's derivative at the
     /// kinks), first take the mean value form in t over each ray's whole segment (one
     /// lane of a walk of the tangent list over the segment, one of the list at its middle; for
-    /// segments of at least 4 pieces): a segment it proves free needs no pieces. Taken on every
+    /// segments of at least 2 pieces): a segment it proves free needs no pieces. Taken on every
     /// such scan (since session 22; a trial had stopped them where they spared few lanes, which
     /// cost the smooth scenes up to 5%). The answers keep their meaning. Off: the pieces only.
     bool segment_forms = true;
