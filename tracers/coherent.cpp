@@ -542,8 +542,9 @@ class Walker {
     /// worth their cost (about four box evaluations) while they win: the first 16 tries, then
     /// one in eight when they do not.
     PayingTrial<16, 8> mean_values_;
-    /// This root tile's tile pieces (scan_together; a win: they answered a ray, or proved every
-    /// ray of the node free): the first 4, then one in 16.
+    /// This root tile's tile pieces (scan_together; a win: they answered a ray, proved every ray
+    /// of the node free, or spared four vectors' worth of pieces): the first 4, then while one
+    /// try in four wins, else one in 16.
     PayingTrial<4, 16> tile_trial_;
     /// This root tile's mean value forms in lanes on lists with kinks (scan_together; a win: they
     /// proved at least half the pieces they were taken on): the first 4, then one in 16 (the
