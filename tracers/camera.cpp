@@ -71,15 +71,15 @@ struct Row8 {
     std::int64_t odd[kRow];  ///< nonzero: a lane the vectors do not take (redone one by one)
 };
 
-/// CameraFrame::ray's direction and clip_ray's slabs for eight rays, with the scalar code's
-/// operations in its order (IEEE arithmetic: the same bits). A lane where a branch of the
-/// scalar code is not the common one (a zero length or direction component, a slab parameter
-/// outside step_up's integer range) is marked odd.
 #if defined(__x86_64__) && defined(__GNUC__)
 #define CERTRAY_ROW_CLONES [[gnu::target_clones("avx512f", "avx2", "default")]]
 #else
 #define CERTRAY_ROW_CLONES
 #endif
+/// CameraFrame::ray's direction and clip_ray's slabs for eight rays, with the scalar code's
+/// operations in its order (IEEE arithmetic: the same bits). A lane where a branch of the
+/// scalar code is not the common one (a zero length or direction component, a slab parameter
+/// outside step_up's integer range) is marked odd.
 CERTRAY_ROW_CLONES void row8(Row8& r) {
     V8 u, x[3];
     std::memcpy(&u, r.u, sizeof u);

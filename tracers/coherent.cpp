@@ -25,7 +25,6 @@
 
 #include "expr/derived.h"
 #include "expr/eval.h"
-#include "expr/eval_batch.h"
 #include "expr/eval_dual_batch.h"
 #include "expr/eval_interval_batch.h"
 #include "expr/prune.h"
@@ -223,8 +222,7 @@ class Walker {
           t_splits_(rays.projection() != Projection::Ortho || tape.uses_var(2)),
           levels_(kMaxDepth),
           tape_tangent_(expr::tangent_list(tape.ssa())),
-          float_lanes_(options.float_lanes && mostly_arithmetic(tape.ssa())),
-          centre_lane_(expr::batch_isa() == expr::BatchIsa::Avx512) {
+          float_lanes_(options.float_lanes && mostly_arithmetic(tape.ssa())) {
         if (rays.projection() != Projection::List && options.render.aov != Aov::Depth &&
             options.depth_pixels > 0) {
             // A pixel's footprint: its angle times t (pinhole), or its side (ortho).
@@ -321,13 +319,6 @@ class Walker {
                                const std::array<double, 3>* dirs, std::size_t n,
                                std::vector<UpInterval>& values, std::vector<UpInterval>& slopes,
                                const Level* fold);
-    /// The four lanes of mean_value()'s form on a smooth list, in double (four lanes are half a
-    /// binary32 vector): g[0..2] the gradient's components over the box x, g[3] the derivative
-    /// along dc; false where the walk proves nothing (f not defined and continuous on x, an
-    /// unbounded component). Where a vector of the double walk holds eight lanes (centre_lane_),
-    /// ray_form_lanes() takes the centre in a fifth lane of the same walk instead.
-    bool tangent_form_lanes(const expr::TangentList& tl, const std::array<UpInterval, 3>& x,
-                            const double* dc, UpInterval* g);
     /// A mean value form as a line in t: for every ray of a node and every point t of its [a, b],
     /// f(o + t·d) ∈ p + (t − tc)·q (ok: the form applies). mean_value() and ray_form() give it
     /// beside the form's enclosure, which is that of the same terms grouped otherwise.
@@ -343,7 +334,9 @@ class Walker {
     void clip_to_line(const LinearForm& lin, double& a, double& b) const;
     /// The node mean value form's inputs and lanes (mean_value, split_screen): the box x of a
     /// node's rays over [a, b], its centre c = oc + tc·dc (rounded outward), and the form's
-    /// gradient lanes g (tangent_form_lanes) and centre value m.
+    /// lanes (ray_form_lanes): g[0..2] the gradient's components over x, g[3] the derivative along
+    /// dc, m f's enclosure at c; ok false where the walk proves nothing (f not defined and
+    /// continuous on x, an unbounded component).
     struct RayForm {
         std::array<UpInterval, 3> x, c;
         double oc[3], dc[3], tc;
@@ -361,6 +354,14 @@ class Walker {
     /// The lanes of n forms (n ≤ kMaxForms) in one walk of `tl`: five lanes each, the centre's
     /// last.
     static constexpr int kMaxForms = 4;
+    /// Counts a node's mean value form on a list of `length` instructions: a gradient and an
+    /// interval evaluation (two box walks' worth).
+    void count_form(std::size_t length) {
+        stats.box_evals += 2;
+        stats.box_instructions += 2 * length;
+        ++evals.gradient;
+        ++evals.interval;
+    }
     void ray_form_lanes(const expr::TangentList& tl, RayForm* forms, int n);
     RayForm forms_[kMaxForms];              ///< split_screen()'s forms
     std::vector<UpInterval> split_values_;  ///< split_screen()'s enclosures
@@ -648,9 +649,6 @@ class Walker {
     const std::optional<expr::TangentList> tape_tangent_;
     /// The walks in lanes in binary32 bounds (CoherentOptions::float_lanes).
     const bool float_lanes_;
-    /// The double walk's vectors hold eight lanes (AVX-512): the node's mean value form takes its
-    /// centre in the fifth lane of its tangent walk (tangent_form_lanes).
-    const bool centre_lane_;
     struct Piece {
         unsigned i, j;
         double p, q;
@@ -808,10 +806,7 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
     using D = Dual<UpInterval, 3>;
     if (duals_.size() < list.size()) duals_.resize(list.size());
     if (centre_.size() < list.size()) centre_.resize(list.size());
-    stats.box_evals += 2;
-    stats.box_instructions += 2 * list.size();
-    ++evals.gradient;
-    ++evals.interval;
+    count_form(list.size());
     const UpInterval t(a, b);
     const std::array<UpInterval, 3> x = segment_box(olo, ohi, dlo, dhi, a, b);
     const bool one_ray = std::equal(olo, olo + 3, ohi) && std::equal(dlo, dlo + 3, dhi);
@@ -853,22 +848,14 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
     const double* oc = form.oc;
     const double* dc = form.dc;
     if (tl != nullptr) {
-        // The same form from the tangent list: lanes 0–2 walk the box X with the seeds e_x, e_y,
-        // e_z (the gradient's components, as the Dual walk has them), lane 3 with the seed dc
-        // (∇f·dc directly: tighter than Σ G_k·dc_k): one vector of four lanes. The centre is a
-        // walk of the list itself (the tangent list's value lanes are its bits), shorter than a
-        // second vector of the tangent list for one lane (Barth's sextic 3% less time, Mitchell's
-        // 4%). Interval seeds O − oc and D − dc would lose the cancellations inside each component
-        // (twice as wide on Barth's sextic), so those sums are taken over the components.
-        if (centre_lane_) {
-            ray_form_lanes(*tl, &form, 1);
-        } else {
-            form.ok = tangent_form_lanes(*tl, x, dc, form.g);
-            if (form.ok) {
-                expr::detail::run<UpInterval>(list, c, centre_.data());
-                form.m = centre_[list.back().out];
-            }
-        }
+        // The same form from the tangent list: five lanes of one walk (ray_form_lanes), the box X
+        // with the seeds e_x, e_y, e_z (the gradient's components, as the Dual walk has them) and
+        // dc (∇f·dc directly: tighter than Σ G_k·dc_k), and the centre. (A scalar walk of the list
+        // for the centre had paid on a first-generation Zen, 3–4%; on AVX2 and the baseline of
+        // the Zen 4 of session 22 the lane is 0.96–1.02 of the time.) Interval seeds O − oc and
+        // D − dc would lose the cancellations inside each component (twice as wide on Barth's
+        // sextic), so those sums are taken over the components.
+        ray_form_lanes(*tl, &form, 1);
         return ray_form(form, a, b, olo, ohi, dlo, dhi, lin);
     }
     std::array<D, 3> p;
@@ -1215,10 +1202,7 @@ void Walker::split_screen(const Rect& r, double a, double b, const Ssa& list,
             Quarter& z = q[live[l]];
             if (z.form < 0) continue;
             const Hull& h = z.hull;
-            stats.box_evals += 2;
-            stats.box_instructions += 2 * list.size();
-            ++evals.gradient;
-            ++evals.interval;
+            count_form(list.size());
             LinearForm lin;
             const UpInterval f =
                 ray_form(forms_[z.form], z.a, z.b, h.olo, h.ohi, h.dlo, h.dhi, &lin);
@@ -1309,34 +1293,6 @@ void Walker::settle(unsigned i, unsigned j, const Ray& s, RayResult res, bool sc
         res.evals += spent;
     }
     answer(i, j, p, res, list, s.tmin, s.tmax);
-}
-
-bool Walker::tangent_form_lanes(const expr::TangentList& tl, const std::array<UpInterval, 3>& x,
-                                const double* dc, UpInterval* g) {
-    LaneFile<expr::IntervalLanes>& file = d64_;
-    LaneBox boxes[4];
-    for (int k = 0; k < 3; ++k) {
-        for (int l = 0; l < 4; ++l) {
-            boxes[l].lo[k] = x[k].lower();
-            boxes[l].hi[k] = x[k].upper();
-        }
-    }
-    load_lanes(file, boxes, 4);
-    if (file.regs.size() < tl.slots) file.regs.resize(tl.slots);
-    for (int k = 0; k < 3; ++k) {
-        expr::IntervalLanes& seed = file.regs[tl.seed[k]];
-        for (int l = 0; l < 3; ++l) expr::set_lane(seed, l, UpInterval(l == k ? 1.0 : 0.0));
-        expr::set_lane(seed, 3, UpInterval(dc[k]));
-    }
-    expr::run_interval_batch(tl.list.data(), tl.list.data() + tl.list.size(), file.in.data(),
-                             file.regs.data(), 4);
-    const UpInterval v = expr::lane(file.regs[tl.value], 0);
-    if (v.is_empty() || !v.defined) return false;
-    for (int l = 0; l < 4; ++l) {
-        g[l] = expr::lane(file.regs[tl.derivative], l);
-        if (!finite(g[l])) return false;
-    }
-    return true;
 }
 
 void Walker::prepare_form(RayForm& f, double a, double b, const double* olo, const double* ohi,
