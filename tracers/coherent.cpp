@@ -12,6 +12,8 @@
 #include <atomic>
 #include <bit>
 #include <boost/container/vector.hpp>
+#include <cassert>
+#include <cfenv>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -20,6 +22,7 @@
 #include <optional>
 #include <stdexcept>
 #include <thread>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -1428,6 +1431,27 @@ void Walker::ray_form_lanes(const expr::TangentList& tl, RayForm* forms, int n) 
 template <class L>
 void Walker::load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m) {
     static_assert(expr::kIntervalLanes <= 64, "one word of decorations per register");
+    if constexpr (std::is_same_v<L, expr::IntervalLanesF>) {
+        // set_bounds()'s outward rounding without its branches (the walk holds the upward mode);
+        // a box empty on an axis (not lo ≤ hi) gets UpInterval::empty()'s bounds.
+        assert(std::fegetround() == FE_UPWARD);
+        const float empty_lo = expr::lower_f32(UpInterval::empty().lower());
+        const float empty_hi = expr::upper_f32(UpInterval::empty().upper());
+        for (int c = 0; c < 3; ++c) {
+            L& x = file.in[c];
+            std::uint64_t def = 0;
+            for (int k = 0; k < m; ++k) {
+                const double lo = boxes[k].lo[c], hi = boxes[k].hi[c];
+                const bool ok = lo <= hi;
+                const float flo = expr::lower_f32_upward(lo), fhi = expr::upper_f32_upward(hi);
+                x.lo[k] = ok ? flo : empty_lo;
+                x.hi[k] = ok ? fhi : empty_hi;
+                def |= std::uint64_t{ok} << k;
+            }
+            x.defined[0] = def;
+        }
+        return;
+    }
     for (int c = 0; c < 3; ++c) {
         L& x = file.in[c];
         std::uint64_t def = 0;

@@ -404,6 +404,34 @@ TEST(IntervalBatchF32, OutwardRounding) {
     EXPECT_EQ(upper_f32(1e-300), fsub);
 }
 
+// In upward mode the branch-free roundings are lower_f32 and upper_f32, bit for bit: on binary32
+// numbers, between them, past them and below them, at signed zeros, subnormals of both formats,
+// infinities and NaN.
+RC_GTEST_PROP(IntervalBatchF32Property, BranchFreeRoundingIsTheOutwardOne, ()) {
+    const auto x = *rc::gen::oneOf(
+        rc::gen::arbitrary<double>(),
+        rc::gen::map(rc::gen::arbitrary<std::uint64_t>(),
+                     [](std::uint64_t b) { return std::bit_cast<double>(b); }),
+        rc::gen::map(rc::gen::arbitrary<float>(), [](float f) { return static_cast<double>(f); }),
+        rc::gen::element(0.0, -0.0, 1e-300, -1e-300, 4.9e-324, -4.9e-324, 1.4e-45, 7e-46, -7e-46,
+                         3.4028234663852886e38, 3.4028235e38 * 1.0000001, DBL_MAX, -DBL_MAX, kInf,
+                         -kInf, std::nan("")));
+    const float lo = lower_f32(x), hi = upper_f32(x);  // in the default mode
+    float lo_up, hi_up;
+    {
+        RoundingScope up;
+        lo_up = lower_f32_upward(x);
+        hi_up = upper_f32_upward(x);
+    }
+    if (std::isnan(x)) {
+        RC_ASSERT(std::isnan(lo_up) && std::isnan(hi_up));
+        return;
+    }
+    RC_ASSERT(std::bit_cast<std::uint32_t>(lo_up) == std::bit_cast<std::uint32_t>(lo));
+    RC_ASSERT(std::bit_cast<std::uint32_t>(hi_up) == std::bit_cast<std::uint32_t>(hi));
+    RC_ASSERT(static_cast<double>(lo_up) <= x && x <= static_cast<double>(hi_up));
+}
+
 /// Runs `list` over `boxes` with the binary32 walk on every copy (as the host of this run) and
 /// with the scalar double walk over the same boxes rounded outward to binary32 (the boxes the
 /// binary32 walk sees). When `each_op`, every register of the binary32 walk must hold the scalar
