@@ -99,6 +99,16 @@ inline void set_bounds(IntervalLanesF& x, int i, double lo, double hi) {
     x.hi[i] = upper_f32(hi);
 }
 
+/// set_bounds() where the caller holds the upward mode (a RoundingScope): the same bits, in
+/// binary32 by lower_f32_upward and upper_f32_upward (no branches).
+inline void set_bounds_upward(IntervalLanes& x, int i, double lo, double hi) {
+    set_bounds(x, i, lo, hi);
+}
+inline void set_bounds_upward(IntervalLanesF& x, int i, double lo, double hi) {
+    x.lo[i] = lower_f32_upward(lo);
+    x.hi[i] = upper_f32_upward(hi);
+}
+
 /// Whether the binary32 walk (run_interval_batch over IntervalLanesF) takes `op` with a binary32
 /// kernel; it takes the others in double, widened and rounded outward, which costs their double
 /// step and two conversions.

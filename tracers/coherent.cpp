@@ -1610,10 +1610,15 @@ void Walker::eval_tangent_lanes_in(LaneFile<L>& file, const expr::TangentList& t
         const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
         load_lanes(file, boxes + k0, m);
         if (fold != nullptr) load_fixed(file, *fold, m);  // none where the level has no folded list
-        for (int k = 0; k < m; ++k) {
-            for (int c = 0; c < 3; ++c) {
-                expr::set_lane(file.regs[tl.seed[c]], k, UpInterval(dirs[k0 + k][c]));
+        // The seeds: each lane's direction, a point (defined), rounded outward.
+        const std::uint64_t lanes = m == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << m) - 1;
+        for (int c = 0; c < 3; ++c) {
+            L& seed = file.regs[tl.seed[c]];
+            for (int k = 0; k < m; ++k) {
+                const double d = dirs[k0 + k][c];
+                expr::set_bounds_upward(seed, k, d, d);
             }
+            seed.defined[0] |= lanes;
         }
         expr::run_interval_batch(tl.list.data(), tl.list.data() + tl.list.size(), file.in.data(),
                                  file.regs.data(), m);
