@@ -179,6 +179,11 @@ bool has_choices(const Ssa& list) {
 /// How many pieces w wide a scan cuts segment s into.
 int pieces_of(const Ray& s, double w) { return static_cast<int>(std::ceil((s.tmax - s.tmin) / w)); }
 
+/// Whether pieces_of(s, w) < m for a nonempty s (s.tmin < s.tmax), w > 0 and m − 1 a power of
+/// two, without the division: in any rounding mode the quotient rounds to at most m − 1 exactly
+/// when the length is at most (m − 1)·w (exact: m − 1 is a power of two).
+bool fewer_pieces(const Ray& s, double w, int m) { return s.tmax - s.tmin <= (m - 1) * w; }
+
 /// Piece k of the n pieces of segment s, w wide, front to back (the last one ends at s.tmax); it
 /// may be empty (lo ≥ hi) where rounding left nothing for it.
 std::pair<double, double> piece(const Ray& s, double w, int k, int n) {
@@ -262,8 +267,28 @@ class Walker {
     void node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
               unsigned depth, const Hull* given = nullptr);
     /// The open rays of r whose segments meet [a, b]: their count and the hull of their origins,
-    /// directions and parameter ranges.
+    /// directions and parameter ranges. Over the blocks of kBlock × kBlock pixels that r covers
+    /// whole, a block whose open rays all meet [a, b] gives its cached hull (Block) instead of a
+    /// pass over its pixels: the same hull (minima and maxima in another order).
     Hull hull_of(const Rect& r, double a, double b);
+    /// The hull of the open rays of a block of the root tile, each ray's whole segment, kept
+    /// while none of them is answered (answer() marks it stale): their count, the hull of their
+    /// origins and directions, the least and greatest tmin and tmax.
+    struct Block {
+        Hull hull;
+        double max_tmin = -kInf, min_tmax = kInf;
+        const Px* first = nullptr;  ///< its first open ray
+        bool stale = true;
+    };
+    /// Side of a Block in pixels.
+    static constexpr unsigned kBlock = 4;
+    std::vector<Block> blocks_;
+    unsigned blocks_w_ = 0;  ///< blocks per row of the root tile
+    Block& block_of(unsigned i, unsigned j) {
+        return blocks_[std::size_t{(j - root_.j0) / kBlock} * blocks_w_ + (i - root_.i0) / kBlock];
+    }
+    /// Block b (its top left pixel (i0, j0)) taken afresh from its pixels.
+    void take_block(Block& b, unsigned i0, unsigned j0);
     /// `tape`: the register tape of `list`, or null (built into `level` when a solver needs it).
     void leaf(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
               Level& level, unsigned depth);
@@ -631,6 +656,7 @@ class Walker {
     /// segment_forms; 4 until session 22: the lanes of a walk cost little next to the walk, and
     /// with 2 Chmutov's heightmap takes 0.90 of the time).
     static constexpr int kSegmentFormPieces = 2;
+    static_assert(std::has_single_bit(unsigned{kSegmentFormPieces - 1}), "fewer_pieces()");
     /// ... and a list of at least this many instructions (the colonnade's pruned lists of about
     /// 10 took 10% longer with the forms alone at any length; with the monotone segments, lists of
     /// 8 and more pay or break even: docs/benchmarks.md, session 16).
@@ -909,6 +935,8 @@ void Walker::tile(const Rect& r) {
     }
     if (rays_.projection() == Projection::Ortho && ortho_tile_free(r)) return;
     px_.assign(std::size_t{r.w} * r.h, Px{});
+    blocks_w_ = (r.w + kBlock - 1) / kBlock;
+    blocks_.assign(std::size_t{blocks_w_} * ((r.h + kBlock - 1) / kBlock), Block{});
     double a = kInf, b = -kInf;
     {
         NearestScope env;  // one switch for the tile's rays
@@ -975,26 +1003,66 @@ bool Walker::ortho_tile_free(const Rect& r) {
 Walker::Hull Walker::hull_of(const Rect& r, double a, double b) {
     Hull hull;
     hull.answered = answered_;
+    // Whole blocks: r starts on a block's corner and ends on one, or at the root tile's end.
+    const bool blocks = options_.block_hulls && (r.i0 - root_.i0) % kBlock == 0 &&
+                        (r.j0 - root_.j0) % kBlock == 0 &&
+                        (r.w % kBlock == 0 || r.i0 + r.w == root_.i0 + root_.w) &&
+                        (r.h % kBlock == 0 || r.j0 + r.h == root_.j0 + root_.h);
     // A pinhole's rays share their origin, a heightmap's their direction: that hull is the
-    // first open ray's, and the loop takes the other one only.
+    // first open ray's (any one's: the same bits), and the loop takes the other one only.
     const auto take = [&](auto vary_o, auto vary_d) {
         const Px* first = nullptr;
-        for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
-            for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
-                const Px& p = px(i, j);
-                if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
-                if (first == nullptr) first = &p;
-                ++hull.count;
-                hull.tlo = std::min(hull.tlo, p.ray.tmin);
-                hull.thi = std::max(hull.thi, p.ray.tmax);
-                for (int c = 0; c < 3; ++c) {
-                    if constexpr (vary_o) {
-                        hull.olo[c] = std::min(hull.olo[c], p.ray.o[c]);
-                        hull.ohi[c] = std::max(hull.ohi[c], p.ray.o[c]);
+        const auto merge = [&](const Hull& h) {
+            hull.count += h.count;
+            hull.tlo = std::min(hull.tlo, h.tlo);
+            hull.thi = std::max(hull.thi, h.thi);
+            for (int c = 0; c < 3; ++c) {
+                if constexpr (vary_o) {
+                    hull.olo[c] = std::min(hull.olo[c], h.olo[c]);
+                    hull.ohi[c] = std::max(hull.ohi[c], h.ohi[c]);
+                }
+                if constexpr (vary_d) {
+                    hull.dlo[c] = std::min(hull.dlo[c], h.dlo[c]);
+                    hull.dhi[c] = std::max(hull.dhi[c], h.dhi[c]);
+                }
+            }
+        };
+        const auto pixels = [&](unsigned i0, unsigned j0, unsigned w, unsigned h) {
+            for (unsigned j = j0; j < j0 + h; ++j) {
+                for (unsigned i = i0; i < i0 + w; ++i) {
+                    const Px& p = px(i, j);
+                    if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
+                    if (first == nullptr) first = &p;
+                    ++hull.count;
+                    hull.tlo = std::min(hull.tlo, p.ray.tmin);
+                    hull.thi = std::max(hull.thi, p.ray.tmax);
+                    for (int c = 0; c < 3; ++c) {
+                        if constexpr (vary_o) {
+                            hull.olo[c] = std::min(hull.olo[c], p.ray.o[c]);
+                            hull.ohi[c] = std::max(hull.ohi[c], p.ray.o[c]);
+                        }
+                        if constexpr (vary_d) {
+                            hull.dlo[c] = std::min(hull.dlo[c], p.ray.d[c]);
+                            hull.dhi[c] = std::max(hull.dhi[c], p.ray.d[c]);
+                        }
                     }
-                    if constexpr (vary_d) {
-                        hull.dlo[c] = std::min(hull.dlo[c], p.ray.d[c]);
-                        hull.dhi[c] = std::max(hull.dhi[c], p.ray.d[c]);
+                }
+            }
+        };
+        if (!blocks) {
+            pixels(r.i0, r.j0, r.w, r.h);
+        } else {
+            for (unsigned bj = r.j0; bj < r.j0 + r.h; bj += kBlock) {
+                for (unsigned bi = r.i0; bi < r.i0 + r.w; bi += kBlock) {
+                    Block& k = block_of(bi, bj);
+                    if (k.stale) take_block(k, bi, bj);
+                    if (k.hull.count == 0) continue;
+                    if (k.max_tmin <= b && k.min_tmax >= a) {  // every open ray meets [a, b]
+                        if (first == nullptr) first = k.first;
+                        merge(k.hull);
+                    } else {
+                        pixels(bi, bj, std::min(kBlock, r.i0 + r.w - bi),
+                               std::min(kBlock, r.j0 + r.h - bj));
                     }
                 }
             }
@@ -1017,6 +1085,32 @@ Walker::Hull Walker::hull_of(const Rect& r, double a, double b) {
             break;
     }
     return hull;
+}
+
+void Walker::take_block(Block& k, unsigned i0, unsigned j0) {
+    k = Block{};
+    k.stale = false;
+    Hull& h = k.hull;
+    const unsigned i1 = std::min(i0 + kBlock, root_.i0 + root_.w);
+    const unsigned j1 = std::min(j0 + kBlock, root_.j0 + root_.h);
+    for (unsigned j = j0; j < j1; ++j) {
+        for (unsigned i = i0; i < i1; ++i) {
+            const Px& p = px(i, j);
+            if (!p.open) continue;
+            if (k.first == nullptr) k.first = &p;
+            ++h.count;
+            h.tlo = std::min(h.tlo, p.ray.tmin);
+            h.thi = std::max(h.thi, p.ray.tmax);
+            k.max_tmin = std::max(k.max_tmin, p.ray.tmin);
+            k.min_tmax = std::min(k.min_tmax, p.ray.tmax);
+            for (int c = 0; c < 3; ++c) {
+                h.olo[c] = std::min(h.olo[c], p.ray.o[c]);
+                h.ohi[c] = std::max(h.ohi[c], p.ray.o[c]);
+                h.dlo[c] = std::min(h.dlo[c], p.ray.d[c]);
+                h.dhi[c] = std::max(h.dhi[c], p.ray.d[c]);
+            }
+        }
+    }
 }
 
 void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
@@ -2083,7 +2177,7 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
         // A form costs two lanes (one of the tangent list, one of the list) in walks that run
         // anyway; a segment of one piece keeps its piece.
         if (z.res.status != Status::Miss || !(z.s.tmin < z.s.tmax) ||
-            pieces_of(z.s, piece_width(z.s)) < kSegmentFormPieces) {
+            fewer_pieces(z.s, piece_width(z.s), kSegmentFormPieces)) {
             continue;
         }
         const Ray& full = px(z.i, z.j).ray;
@@ -2303,6 +2397,7 @@ void Walker::spend(unsigned i, unsigned j, const EvalCounts& e) {
 void Walker::answer(unsigned i, unsigned j, Px& p, const RayResult& res, const Ssa& list, double a,
                     double b) {
     p.open = false;
+    block_of(i, j).stale = true;
     ++answered_;
     evals += res.evals;
     const Ray& ray = p.ray;

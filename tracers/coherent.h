@@ -171,6 +171,12 @@ struct CoherentOptions {
     /// may vanish (the solid: be negative); each part cut off is proven free by the line's
     /// enclosure over it. Off: the node keeps its [a, b].
     bool clip_forms = true;
+    /// A node's hull over the blocks of 4 × 4 pixels that its rectangle covers whole comes from
+    /// each block's hull of its open rays, kept until one of them is answered, where all of them
+    /// meet the node's [a, b] (else from the block's pixels): the same hulls, bit for bit, with
+    /// a pass over each block's pixels only when it changed. Off: every node passes over its
+    /// pixels.
+    bool block_hulls = true;
     /// The scans' walks in lanes (pieces, points, tiles, quarters, segment enclosures and forms)
     /// run in binary32 bounds (expr/eval_interval_batch.h: eight lanes per AVX2 instruction
     /// instead of four), each bound rounded outward, so that every enclosure holds the real values

@@ -714,6 +714,50 @@ TEST(Coherent, ThreadsAndMeanValueFormDoNotChangeAnswersAndMeanValueSavesWork) {
               solid_without.box_evals + solid_without.leaf_solves);
 }
 
+/// How many of the results differ between x and y in status, enclosure bits (NaN too) or
+/// evaluations (a difference in count counts once).
+std::size_t differing(const std::vector<RayResult>& x, const std::vector<RayResult>& y) {
+    const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+    std::size_t differ = x.size() != y.size();
+    for (std::size_t k = 0; k < std::min(x.size(), y.size()); ++k) {
+        differ += x[k].status != y[k].status || bits(x[k].t_lo) != bits(y[k].t_lo) ||
+                  bits(x[k].t_hi) != bits(y[k].t_hi) || x[k].evals.total() != y[k].evals.total();
+    }
+    return differ;
+}
+
+/// A 96² image view as the CLI renders it: Barth's sextic through the pinhole, its zero set
+/// (scene 0), or Chmutov's heightmap over [−1, 1]³, its solid (scene 1).
+CoherentOptions image_view(int scene) {
+    CoherentOptions o = small_view(scene == 0 ? Projection::Pinhole : Projection::Ortho);
+    o.render.width = o.render.height = 96;
+    if (scene == 1) {
+        o.surface = Surface::Solid;
+        o.render.bounds = {{{-1, 1}, {-1, 1}, {-1, 1}}};
+    }
+    o.certified = image_solver_options();
+    o.depth_pixels = 0.5;
+    return o;
+}
+
+/// Renders `tape` with `o`, the option `flag` on and then off, and checks that every answer, its
+/// enclosure and its evaluations, the image and the box counts are the same.
+void expect_same_either_way(const expr::Tape& tape, CoherentOptions o, bool CoherentOptions::*flag,
+                            const std::string& where) {
+    std::vector<RayResult> on_results, off_results;
+    CoherentStats on, off;
+    o.*flag = true;
+    const RenderResult a = render_3d_coherent(tape, o, &on, &on_results);
+    o.*flag = false;
+    const RenderResult b = render_3d_coherent(tape, o, &off, &off_results);
+    EXPECT_EQ(differing(on_results, off_results), 0u) << where;
+    EXPECT_TRUE(a.image.rgb == b.image.rgb) << where;
+    EXPECT_EQ(on.box_evals, off.box_evals) << where;
+    EXPECT_EQ(on.boxes_excluded, off.boxes_excluded) << where;
+    EXPECT_GT(on.boxes_excluded, 0u) << where;
+    EXPECT_GT(a.stats.hit, 0u) << where;
+}
+
 TEST(Coherent, QuartersInLanesAreTheQuartersWalkedOneByOne) {
     // A node's four quarters evaluated in lanes of one walk, and their mean value forms in lanes
     // of another (children_in_lanes), give each quarter the enclosure and form of its own walks
@@ -724,41 +768,58 @@ TEST(Coherent, QuartersInLanesAreTheQuartersWalkedOneByOne) {
     const expr::Tape barth(expr::load_graph_file((kScenes / "barth_sextic.vm").string()));
     const expr::Tape chmutov(expr::load_graph_file((kScenes / "chmutov6.vm").string()));
     for (int scene = 0; scene < 2; ++scene) {
-        CoherentOptions o = small_view(scene == 0 ? Projection::Pinhole : Projection::Ortho);
-        o.render.width = o.render.height = 96;
-        if (scene == 1) {
-            o.surface = Surface::Solid;
-            o.render.bounds = {{{-1, 1}, {-1, 1}, {-1, 1}}};
-        }
-        o.certified = image_solver_options();
-        o.depth_pixels = 0.5;
+        CoherentOptions o = image_view(scene);
         for (unsigned rays : {16u, 1000u}) {
             o.mean_value_rays = rays;
-            std::vector<RayResult> lanes, alone;
-            CoherentStats with, without;
-            o.children_in_lanes = true;
-            const RenderResult a =
-                render_3d_coherent(scene == 0 ? barth : chmutov, o, &with, &lanes);
-            o.children_in_lanes = false;
-            const RenderResult b =
-                render_3d_coherent(scene == 0 ? barth : chmutov, o, &without, &alone);
-            const std::string where = (scene == 0 ? "Barth, " : "Chmutov, ") + std::to_string(rays);
-            ASSERT_EQ(lanes.size(), alone.size());
-            std::size_t differ = 0;
-            const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };  // NaN too
-            for (std::size_t k = 0; k < lanes.size(); ++k) {
-                differ += lanes[k].status != alone[k].status ||
-                          bits(lanes[k].t_lo) != bits(alone[k].t_lo) ||
-                          bits(lanes[k].t_hi) != bits(alone[k].t_hi) ||
-                          lanes[k].evals.total() != alone[k].evals.total();
-            }
-            EXPECT_EQ(differ, 0u) << where;
-            EXPECT_TRUE(a.image.rgb == b.image.rgb) << where;
-            EXPECT_EQ(with.box_evals, without.box_evals) << where;
-            EXPECT_EQ(with.boxes_excluded, without.boxes_excluded) << where;
-            EXPECT_GT(with.boxes_excluded, 0u) << where;
-            EXPECT_GT(a.stats.hit, 0u) << where;
+            expect_same_either_way(scene == 0 ? barth : chmutov, o,
+                                   &CoherentOptions::children_in_lanes,
+                                   (scene == 0 ? "Barth, " : "Chmutov, ") + std::to_string(rays));
         }
+    }
+}
+
+TEST(Coherent, BlockHullsAreThePixelHulls) {
+    // A node's hull taken from its 4 × 4 blocks' cached hulls (block_hulls) is the hull a pass
+    // over its pixels takes, bit for bit: every answer, its enclosure and its evaluations are the
+    // same, and so are the images and the box counts. Barth's sextic (pinhole, zero set),
+    // Chmutov's (heightmap, solid) and a bundle of query rays (whose hulls take origins and
+    // directions both), with root tiles of 16 pixels (whole blocks) and of 10 and 7 (blocks cut
+    // at the tiles' ends, quarters off the blocks' corners).
+    const expr::Tape barth(expr::load_graph_file((kScenes / "barth_sextic.vm").string()));
+    const expr::Tape chmutov(expr::load_graph_file((kScenes / "chmutov6.vm").string()));
+    for (int scene = 0; scene < 2; ++scene) {
+        CoherentOptions o = image_view(scene);
+        for (unsigned side : {16u, 10u, 7u}) {
+            o.root_tile = side;
+            expect_same_either_way(scene == 0 ? barth : chmutov, o, &CoherentOptions::block_hulls,
+                                   (scene == 0 ? "Barth, " : "Chmutov, ") + std::to_string(side));
+        }
+    }
+    // Query rays from one eye through a jittered grid: a bundle laid out by bundle_rays.
+    std::vector<Ray> rays;
+    for (int j = 0; j < 40; ++j) {
+        for (int i = 0; i < 40; ++i) {
+            const double u = (i + 0.5 + 0.3 * ((i * 7 + j * 3) % 5 - 2) / 2.0) / 40 - 0.5;
+            const double v = (j + 0.5 + 0.3 * ((i * 5 + j * 11) % 5 - 2) / 2.0) / 40 - 0.5;
+            rays.push_back({{0, 0, 6}, {u, v, -1}, 0, 12});
+        }
+    }
+    CoherentOptions q;
+    q.render.bounds = {{{-2, 2}, {-2, 2}, {-2, 2}}};
+    q.render.threads = 2;
+    for (unsigned side : {16u, 10u}) {
+        q.root_tile = side;
+        CoherentStats with, without;
+        q.block_hulls = true;
+        const std::optional<std::vector<RayResult>> a = query_coherent(barth, rays, q, &with);
+        q.block_hulls = false;
+        const std::optional<std::vector<RayResult>> b = query_coherent(barth, rays, q, &without);
+        ASSERT_TRUE(a.has_value() && b.has_value());
+        EXPECT_EQ(differing(*a, *b), 0u) << "query rays, " << side;
+        EXPECT_EQ(with.box_evals, without.box_evals) << "query rays, " << side;
+        EXPECT_GT(std::count_if(a->begin(), a->end(),
+                                [](const RayResult& r) { return r.status == Status::Hit; }),
+                  0);
     }
 }
 
@@ -1006,6 +1067,7 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     o.segment_enclosures_first = *rc::gen::arbitrary<bool>();
     o.children_in_lanes = *rc::gen::arbitrary<bool>();
     o.clip_forms = *rc::gen::arbitrary<bool>();
+    o.block_hulls = *rc::gen::arbitrary<bool>();
     o.float_lanes = *rc::gen::arbitrary<bool>();  // binary32 walks, where the list is arithmetic
     o.fold_lists = *rc::gen::element(0u, 4u, 16u, 128u);  // 4: folded wherever it drops enough
     o.folded_together_rays = *rc::gen::element(0u, 64u, 1024u);  // nodes of up to 1024 rays
@@ -1041,7 +1103,7 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
                            dist * std::sin(el)};
     o.render.camera.target = {0, 0, 0};
     o.render.camera.fov_degrees = *rc::gen::element(20.0, 35.0, 60.0);
-    o.root_tile = *rc::gen::element(1u, 4u, 16u);
+    o.root_tile = *rc::gen::element(1u, 4u, 6u, 16u);
     o.aspect = *rc::gen::element(0.25, 0.5, 2.0);
     o.mean_value_rays = *rc::gen::element(0u, 4u, 16u, 1000u);
     o.render.threads = *rc::gen::element(1u, 2u);
@@ -1055,6 +1117,7 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     o.segment_enclosures_first = *rc::gen::arbitrary<bool>();
     o.children_in_lanes = *rc::gen::arbitrary<bool>();
     o.clip_forms = *rc::gen::arbitrary<bool>();
+    o.block_hulls = *rc::gen::arbitrary<bool>();
     o.fold_lists = *rc::gen::element(0u, 4u, 16u, 128u);
     o.folded_together_rays = *rc::gen::element(0u, 64u, 1024u);
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
