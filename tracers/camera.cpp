@@ -156,6 +156,40 @@ void CameraFrame::clipped_row(unsigned i0, unsigned j, unsigned n, const Box3& b
     }
 }
 
+bool CameraFrame::misses(unsigned i0, unsigned j0, unsigned w, unsigned h, const Box3& box) const {
+    if (w == 0 || h == 0) return true;
+    RoundingScope up;
+    // The pixel centres' image-plane coordinates (as ray() computes them), widened by a
+    // billionth: ray() rounds them, and the normalised directions differ from these by ulps.
+    const auto widen = [](const UpInterval& x) {
+        const double m = 1e-9 * (std::fabs(x.lower()) + std::fabs(x.upper())) + 1e-300;
+        return x + UpInterval(-m, m);
+    };
+    const UpInterval s(scale_);
+    const UpInterval u = widen((UpInterval(i0 + 0.5, i0 + w - 0.5) - UpInterval(half_w_)) * s);
+    const UpInterval v = widen((UpInterval(half_h_) - UpInterval(j0 + 0.5, j0 + h - 0.5)) * s);
+    // Ray eye + t·x (t ≥ 0, x = forward + u·right + v·up) lies in slab c for t between
+    // (lo − eye)/x and (hi − eye)/x: every ray enters the box no earlier than the greatest
+    // lower bound of those entries, and leaves it no later than the least upper bound of the
+    // exits. An axis whose x may vanish (or an operation that gives NaN) bounds nothing.
+    double enter = 0, leave = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < 3; ++c) {
+        const UpInterval x =
+            UpInterval(forward_[c]) + u * UpInterval(right_[c]) + v * UpInterval(up_[c]);
+        if (!(x.lower() > 0 || x.upper() < 0)) continue;
+        const double m =
+            1e-9 * (std::fabs(box[c][0]) + std::fabs(box[c][1]) + std::fabs(eye_[c])) + 1e-300;
+        const UpInterval e(eye_[c]);
+        const UpInterval ta = (UpInterval(box[c][0]) - UpInterval(m) - e) / x;
+        const UpInterval tb = (UpInterval(box[c][1]) + UpInterval(m) - e) / x;
+        if (ta.is_empty() || tb.is_empty()) continue;
+        const double in = std::min(ta.lower(), tb.lower()), out = std::max(ta.upper(), tb.upper());
+        if (in > enter) enter = in;
+        if (out < leave) leave = out;
+    }
+    return enter > leave;
+}
+
 bool clip_ray(Ray& ray, const Box3& box) {
     double t0 = ray.tmin, t1 = ray.tmax;
     for (int a = 0; a < 3; ++a) {

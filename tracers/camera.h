@@ -46,6 +46,11 @@ class CameraFrame {
     /// (vectors where the machine has them). The caller holds round-to-nearest.
     void clipped_row(unsigned i0, unsigned j, unsigned n, const Box3& box, Ray* rays,
                      bool* in) const;
+    /// True only where no ray of pixels [i0, i0 + w) × [j0, j0 + h) meets `box`, not even the
+    /// clipped_row() rays (whose clip reaches a few ulps past the box): proven by interval
+    /// arithmetic over the pixels' directions and the box widened by a billionth. False where
+    /// it cannot tell (then each ray's clip decides).
+    bool misses(unsigned i0, unsigned j0, unsigned w, unsigned h, const Box3& box) const;
     const Vec3& eye() const { return eye_; }
     const Vec3& forward() const { return forward_; }
     const Vec3& right() const { return right_; }

@@ -934,6 +934,7 @@ void Walker::tile(const Rect& r) {
         }
     }
     if (rays_.projection() == Projection::Ortho && ortho_tile_free(r)) return;
+    if (rays_.misses(r.i0, r.j0, r.w, r.h)) return;  // no ray to build: every pixel a Miss
     px_.assign(std::size_t{r.w} * r.h, Px{});
     blocks_w_ = (r.w + kBlock - 1) / kBlock;
     blocks_.assign(std::size_t{blocks_w_} * ((r.h + kBlock - 1) / kBlock), Block{});

@@ -268,6 +268,11 @@ class PixelRays {
     /// ray_in_scope() for pixels (i0 + k, j), k < n: rays[k] and in[k] (the pinhole's eight
     /// at a time, CameraFrame::clipped_row: the same bits).
     void row_in_scope(unsigned i0, unsigned j, unsigned n, Ray* rays, bool* in) const;
+    /// True only where no ray of pixels [i0, i0 + w) × [j0, j0 + h) meets the bounds (a pinhole's
+    /// CameraFrame::misses; the other projections: false), so that they need not be built.
+    bool misses(unsigned i0, unsigned j0, unsigned w, unsigned h) const {
+        return projection_ == Projection::Pinhole && frame_->misses(i0, j0, w, h, bounds_);
+    }
     /// The widest angle (pinhole) or distance (ortho) between neighbouring pixel rays.
     double pixel_pitch() const { return pitch_; }
     Projection projection() const { return projection_; }

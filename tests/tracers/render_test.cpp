@@ -309,6 +309,69 @@ TEST(Camera, ClippedRowsAreTheRaysOneByOne) {
     EXPECT_LT(inside, lanes);
 }
 
+TEST(Camera, RectanglesThatMissTheBoundsHoldNoRayThatMeetsThem) {
+    // CameraFrame::misses(rectangle) says true only where clip_ray finds no pixel ray of the
+    // rectangle meeting the bounds (what clipped_row says too, ClippedRowsAreTheRaysOneByOne):
+    // random cameras, boxes and rectangles (a fixed seed), half of the views aimed at a corner of
+    // the box so that rays graze it. And it does tell: most of the 4 × 4 rectangles whose rays all
+    // miss the box are found so.
+    std::mt19937 rng(20261127);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const auto in = [&](double lo, double hi) { return lo + (hi - lo) * unit(rng); };
+    std::size_t claimed = 0, all_miss = 0, caught = 0;
+    for (int view = 0; view < 300; ++view) {
+        Box3 box;
+        for (auto& a : box) {
+            a[0] = in(-2, 2);
+            a[1] = a[0] + in(0.01, 3);
+        }
+        Camera camera;
+        camera.eye = {in(-8, 8), in(-8, 8), in(-8, 8)};
+        if (view % 2 == 0) {
+            camera.target = {box[0][view % 4 == 0], box[1][view % 3 == 0], box[2][view % 5 == 0]};
+        } else {
+            camera.target = {in(-3, 3), in(-3, 3), in(-3, 3)};
+        }
+        const Vec3 f =
+            normalize({camera.target[0] - camera.eye[0], camera.target[1] - camera.eye[1],
+                       camera.target[2] - camera.eye[2]});
+        camera.up = std::fabs(f[2]) > 0.9 ? Vec3{0, 1, 0} : Vec3{0, 0, 1};
+        camera.fov_degrees = std::array{10.0, 35.0, 90.0, 150.0}[view % 4];
+        const unsigned width = 8 + view % 33, height = 8 + (view * 7) % 29;
+        const CameraFrame frame(camera, width, height);
+        const auto misses_all = [&](unsigned i0, unsigned j0, unsigned w, unsigned h) {
+            for (unsigned j = j0; j < j0 + h; ++j) {
+                for (unsigned i = i0; i < i0 + w; ++i) {
+                    Ray r = frame.ray(i + 0.5, j + 0.5);
+                    if (clip_ray(r, box)) return false;
+                }
+            }
+            return true;
+        };
+        for (int k = 0; k < 20; ++k) {
+            const unsigned i0 = static_cast<unsigned>(in(0, width)) % width;
+            const unsigned j0 = static_cast<unsigned>(in(0, height)) % height;
+            const unsigned w = 1 + static_cast<unsigned>(in(0, width - i0)) % (width - i0);
+            const unsigned h = 1 + static_cast<unsigned>(in(0, height - j0)) % (height - j0);
+            if (!frame.misses(i0, j0, w, h, box)) continue;
+            ++claimed;
+            EXPECT_TRUE(misses_all(i0, j0, w, h))
+                << view << ": " << i0 << ", " << j0 << ", " << w << " x " << h;
+        }
+        for (unsigned j0 = 0; j0 + 4 <= height; j0 += 4) {
+            for (unsigned i0 = 0; i0 + 4 <= width; i0 += 4) {
+                const bool told = frame.misses(i0, j0, 4, 4, box);
+                const bool all = misses_all(i0, j0, 4, 4);
+                EXPECT_TRUE(!told || all) << view << ": " << i0 << ", " << j0;
+                all_miss += all;
+                caught += told && all;
+            }
+        }
+    }
+    EXPECT_GT(claimed, 100u);
+    EXPECT_GT(caught, all_miss / 2);
+}
+
 TEST(Camera, SurfaceExtentEnclosesTheSurface) {
     const Box3 bounds{{{-2, 2}, {-2, 2}, {-2, 2}}};
     const auto box = surface_extent(sphere(), bounds);
