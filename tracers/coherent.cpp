@@ -263,7 +263,52 @@ class Walker {
         double tlo = kInf, thi = -kInf;
         unsigned count = 0;
         std::uint64_t answered = 0;
+        /// Takes in n rays with parameters in [tl, th], origins in [ol, oh] and directions in
+        /// [dl, dh] (per axis), the origins and directions only where they vary across the rays
+        /// (VaryO, VaryD; Walker::varying).
+        template <bool VaryO, bool VaryD>
+        void add(unsigned n, double tl, double th, const double* ol, const double* oh,
+                 const double* dl, const double* dh) {
+            count += n;
+            tlo = std::min(tlo, tl);
+            thi = std::max(thi, th);
+            for (int c = 0; c < 3; ++c) {
+                if constexpr (VaryO) {
+                    olo[c] = std::min(olo[c], ol[c]);
+                    ohi[c] = std::max(ohi[c], oh[c]);
+                }
+                if constexpr (VaryD) {
+                    dlo[c] = std::min(dlo[c], dl[c]);
+                    dhi[c] = std::max(dhi[c], dh[c]);
+                }
+            }
+        }
+        template <bool VaryO, bool VaryD>
+        void add(const Ray& r) {
+            add<VaryO, VaryD>(1, r.tmin, r.tmax, r.o.data(), r.o.data(), r.d.data(), r.d.data());
+        }
+        template <bool VaryO, bool VaryD>
+        void add(const Hull& h) {
+            add<VaryO, VaryD>(h.count, h.tlo, h.thi, h.olo, h.ohi, h.dlo, h.dhi);
+        }
     };
+    /// f(vary_o, vary_d) with std::bool_constant arguments: whether the rays' origins and
+    /// directions vary across the image. A pinhole's rays share their origin, a heightmap's their
+    /// direction: a hull takes that one from any ray (the same bits).
+    template <class F>
+    void varying(F&& f) const {
+        switch (rays_.projection()) {
+            case Projection::Pinhole:
+                f(std::false_type{}, std::true_type{});
+                break;
+            case Projection::Ortho:
+                f(std::true_type{}, std::false_type{});
+                break;
+            case Projection::List:
+                f(std::true_type{}, std::true_type{});
+                break;
+        }
+    }
     void node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
               unsigned depth, const Hull* given = nullptr);
     /// The open rays of r whose segments meet [a, b]: their count and the hull of their origins,
@@ -278,6 +323,7 @@ class Walker {
         Hull hull;
         double max_tmin = -kInf, min_tmax = kInf;
         const Px* first = nullptr;  ///< its first open ray
+        unsigned open = 0;          ///< its open rays (kept by tile() and answer())
         bool stale = true;
     };
     /// Side of a Block in pixels.
@@ -951,6 +997,7 @@ void Walker::tile(const Rect& r) {
                 // A ray that misses the bounds: Miss, no evaluation.
                 p.open = row_in_[i - r.i0];
                 if (!p.open) continue;
+                ++block_of(i, j).open;
                 a = std::min(a, p.ray.tmin);
                 b = std::max(b, p.ray.tmax);
             }
@@ -1009,44 +1056,16 @@ Walker::Hull Walker::hull_of(const Rect& r, double a, double b) {
                         (r.j0 - root_.j0) % kBlock == 0 &&
                         (r.w % kBlock == 0 || r.i0 + r.w == root_.i0 + root_.w) &&
                         (r.h % kBlock == 0 || r.j0 + r.h == root_.j0 + root_.h);
-    // A pinhole's rays share their origin, a heightmap's their direction: that hull is the
-    // first open ray's (any one's: the same bits), and the loop takes the other one only.
-    const auto take = [&](auto vary_o, auto vary_d) {
+    // The origin or direction that does not vary is the first open ray's.
+    varying([&](auto vary_o, auto vary_d) {
         const Px* first = nullptr;
-        const auto merge = [&](const Hull& h) {
-            hull.count += h.count;
-            hull.tlo = std::min(hull.tlo, h.tlo);
-            hull.thi = std::max(hull.thi, h.thi);
-            for (int c = 0; c < 3; ++c) {
-                if constexpr (vary_o) {
-                    hull.olo[c] = std::min(hull.olo[c], h.olo[c]);
-                    hull.ohi[c] = std::max(hull.ohi[c], h.ohi[c]);
-                }
-                if constexpr (vary_d) {
-                    hull.dlo[c] = std::min(hull.dlo[c], h.dlo[c]);
-                    hull.dhi[c] = std::max(hull.dhi[c], h.dhi[c]);
-                }
-            }
-        };
         const auto pixels = [&](unsigned i0, unsigned j0, unsigned w, unsigned h) {
             for (unsigned j = j0; j < j0 + h; ++j) {
                 for (unsigned i = i0; i < i0 + w; ++i) {
                     const Px& p = px(i, j);
                     if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
                     if (first == nullptr) first = &p;
-                    ++hull.count;
-                    hull.tlo = std::min(hull.tlo, p.ray.tmin);
-                    hull.thi = std::max(hull.thi, p.ray.tmax);
-                    for (int c = 0; c < 3; ++c) {
-                        if constexpr (vary_o) {
-                            hull.olo[c] = std::min(hull.olo[c], p.ray.o[c]);
-                            hull.ohi[c] = std::max(hull.ohi[c], p.ray.o[c]);
-                        }
-                        if constexpr (vary_d) {
-                            hull.dlo[c] = std::min(hull.dlo[c], p.ray.d[c]);
-                            hull.dhi[c] = std::max(hull.dhi[c], p.ray.d[c]);
-                        }
-                    }
+                    hull.add<vary_o, vary_d>(p.ray);
                 }
             }
         };
@@ -1056,11 +1075,11 @@ Walker::Hull Walker::hull_of(const Rect& r, double a, double b) {
             for (unsigned bj = r.j0; bj < r.j0 + r.h; bj += kBlock) {
                 for (unsigned bi = r.i0; bi < r.i0 + r.w; bi += kBlock) {
                     Block& k = block_of(bi, bj);
+                    if (k.open == 0) continue;
                     if (k.stale) take_block(k, bi, bj);
-                    if (k.hull.count == 0) continue;
                     if (k.max_tmin <= b && k.min_tmax >= a) {  // every open ray meets [a, b]
                         if (first == nullptr) first = k.first;
-                        merge(k.hull);
+                        hull.add<vary_o, vary_d>(k.hull);
                     } else {
                         pixels(bi, bj, std::min(kBlock, r.i0 + r.w - bi),
                                std::min(kBlock, r.j0 + r.h - bj));
@@ -1073,45 +1092,32 @@ Walker::Hull Walker::hull_of(const Rect& r, double a, double b) {
             if constexpr (!vary_o) hull.olo[c] = hull.ohi[c] = first->ray.o[c];
             if constexpr (!vary_d) hull.dlo[c] = hull.dhi[c] = first->ray.d[c];
         }
-    };
-    switch (rays_.projection()) {
-        case Projection::Pinhole:
-            take(std::false_type{}, std::true_type{});
-            break;
-        case Projection::Ortho:
-            take(std::true_type{}, std::false_type{});
-            break;
-        case Projection::List:
-            take(std::true_type{}, std::true_type{});
-            break;
-    }
+    });
     return hull;
 }
 
 void Walker::take_block(Block& k, unsigned i0, unsigned j0) {
+    const unsigned open = k.open;
     k = Block{};
+    k.open = open;
     k.stale = false;
     Hull& h = k.hull;
     const unsigned i1 = std::min(i0 + kBlock, root_.i0 + root_.w);
     const unsigned j1 = std::min(j0 + kBlock, root_.j0 + root_.h);
-    for (unsigned j = j0; j < j1; ++j) {
-        for (unsigned i = i0; i < i1; ++i) {
-            const Px& p = px(i, j);
-            if (!p.open) continue;
-            if (k.first == nullptr) k.first = &p;
-            ++h.count;
-            h.tlo = std::min(h.tlo, p.ray.tmin);
-            h.thi = std::max(h.thi, p.ray.tmax);
-            k.max_tmin = std::max(k.max_tmin, p.ray.tmin);
-            k.min_tmax = std::min(k.min_tmax, p.ray.tmax);
-            for (int c = 0; c < 3; ++c) {
-                h.olo[c] = std::min(h.olo[c], p.ray.o[c]);
-                h.ohi[c] = std::max(h.ohi[c], p.ray.o[c]);
-                h.dlo[c] = std::min(h.dlo[c], p.ray.d[c]);
-                h.dhi[c] = std::max(h.dhi[c], p.ray.d[c]);
+    // As hull_of: the origins where they vary (not a pinhole's), the directions where they do
+    // (not a heightmap's); hull_of takes the other one from the first open ray.
+    varying([&](auto vary_o, auto vary_d) {
+        for (unsigned j = j0; j < j1; ++j) {
+            for (unsigned i = i0; i < i1; ++i) {
+                const Px& p = px(i, j);
+                if (!p.open) continue;
+                if (k.first == nullptr) k.first = &p;
+                h.add<vary_o, vary_d>(p.ray);
+                k.max_tmin = std::max(k.max_tmin, p.ray.tmin);
+                k.min_tmax = std::min(k.min_tmax, p.ray.tmax);
             }
         }
-    }
+    });
 }
 
 void Walker::node(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
@@ -2397,8 +2403,11 @@ void Walker::spend(unsigned i, unsigned j, const EvalCounts& e) {
 
 void Walker::answer(unsigned i, unsigned j, Px& p, const RayResult& res, const Ssa& list, double a,
                     double b) {
+    assert(p.open);  // answered once
     p.open = false;
-    block_of(i, j).stale = true;
+    Block& block = block_of(i, j);
+    block.stale = true;
+    --block.open;
     ++answered_;
     evals += res.evals;
     const Ray& ray = p.ray;
