@@ -120,6 +120,9 @@ struct TangentCache {
 
 struct Level {
     std::vector<UpInterval> values;
+    /// Walker::split_screen: the slot enclosures of the quarters walked in lanes, each swapped
+    /// into `values` when its descent comes.
+    std::array<std::vector<UpInterval>, 4> quarters;
     Ssa list;
     expr::Tape tape;
     /// A ray scanned with others (Walker::scan_together), waiting to be settled.
@@ -495,10 +498,10 @@ class Walker {
     /// mean value form prove) are known: an answer, a scan, a split or a leaf.
     void descend(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
                  unsigned depth, const Hull& hull, Proof proven);
-    /// node() on the four quarters of r (visited in order), at `depth`. Where nothing below reads
-    /// a node's slot enclosures but its value (no pruning, no folding), their boxes are evaluated
-    /// in lanes of one walk, and their mean value forms in lanes of another
-    /// (CoherentOptions::children_in_lanes): the same enclosures and forms, bit for bit.
+    /// node() on the four quarters of r (visited in order), at `depth`: their boxes evaluated in
+    /// lanes of one walk (each quarter's slot enclosures kept from them where the descent prunes
+    /// or folds), their mean value forms in lanes of another (CoherentOptions::
+    /// children_in_lanes): the same enclosures and forms, bit for bit.
     void split_screen(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
                       unsigned depth);
     Proof proof(const UpInterval& f) const {
@@ -1238,13 +1241,14 @@ void Walker::split_screen(const Rect& r, double a, double b, const Ssa& list,
     if (r.w > w1) quarter[n++] = {r.i0 + w1, r.j0, r.w - w1, h1};
     if (r.h > h1) quarter[n++] = {r.i0, r.j0 + h1, w1, r.h - h1};
     if (r.w > w1 && r.h > h1) quarter[n++] = {r.i0 + w1, r.j0 + h1, r.w - w1, r.h - h1};
-    // Each quarter's slot enclosures are level.values at `depth`, which the descent below reads
-    // only to prune (choices_) and to fold (may_fold): without either, only f's enclosure over a
-    // quarter's box is needed, and the quarters' boxes share one walk.
-    if (!options_.children_in_lanes || choices_ || may_fold(list)) {
+    if (!options_.children_in_lanes) {
         for (int k = 0; k < n; ++k) node(quarter[k], a, b, list, tape, depth);
         return;
     }
+    // Each quarter's slot enclosures are level.values at `depth`, which the descent below reads
+    // to prune (choices_) and to fold (may_fold): there they are kept from the lanes.
+    Level& level = levels_[depth];
+    const bool keep_values = choices_ || may_fold(list);
     // The quarters' rays are disjoint: a quarter's hull, taken before the others are walked,
     // is the one node() would take when it comes to it.
     struct Quarter {
@@ -1273,6 +1277,15 @@ void Walker::split_screen(const Rect& r, double a, double b, const Ssa& list,
     if (m == 0) return;
     // The boxes' enclosures in double lanes: lane l is bit for bit run<UpInterval>'s over box l.
     eval_lanes_in(d64_, list, boxes, static_cast<std::size_t>(m), split_values_, nullptr);
+    if (keep_values) {
+        // Lane l of every slot is what node() would leave in level.values for quarter l; kept
+        // apart, as the forms' walks and the deeper levels reuse the lane file.
+        for (int l = 0; l < m; ++l) {
+            std::vector<UpInterval>& v = level.quarters[l];
+            if (v.size() < list.size()) v.resize(list.size());
+            for (const expr::Instr& in : list) v[in.out] = expr::lane(d64_.regs[in.out], l);
+        }
+    }
     stats.box_evals += m;
     stats.box_instructions += m * list.size();
     evals.interval += m;
@@ -1316,6 +1329,7 @@ void Walker::split_screen(const Rect& r, double a, double b, const Ssa& list,
     for (int l = 0; l < m; ++l) {
         Quarter& z = q[live[l]];
         z.hull.answered = answered_;  // the rays answered since are the other quarters'
+        if (keep_values) level.values.swap(level.quarters[l]);
         descend(quarter[live[l]], z.a, z.b, list, tape, depth, z.hull, z.proven);
     }
 }

@@ -764,7 +764,9 @@ TEST(Coherent, QuartersInLanesAreTheQuartersWalkedOneByOne) {
     // bit for bit: with the forms tried on a fixed rule (mean_value_rays set, so no trial depends
     // on the order of the tries), every answer, its enclosure and its evaluations are the same,
     // and so are the images. Barth's sextic (pinhole, zero set) and Chmutov's (heightmap, solid),
-    // with the forms on boxes of up to 16 rays and on every box.
+    // with the forms on boxes of up to 16 rays and on every box; and where the quarters' slot
+    // enclosures are kept from the lanes for pruning and folding: csg.expr (min, max and abs;
+    // pinhole) and Fidget's colonnade (heightmap, solid, folded lists).
     const expr::Tape barth(expr::load_graph_file((kScenes / "barth_sextic.vm").string()));
     const expr::Tape chmutov(expr::load_graph_file((kScenes / "chmutov6.vm").string()));
     for (int scene = 0; scene < 2; ++scene) {
@@ -776,6 +778,16 @@ TEST(Coherent, QuartersInLanesAreTheQuartersWalkedOneByOne) {
                                    (scene == 0 ? "Barth, " : "Chmutov, ") + std::to_string(rays));
         }
     }
+    const expr::Tape csg(expr::load_graph_file((kScenes / "csg.expr").string()));
+    const expr::Tape colonnade(
+        expr::load_graph_file((kScenes / "fidget" / "colonnade.vm").string()));
+    CoherentOptions o = image_view(0);
+    o.mean_value_rays = 16;
+    expect_same_either_way(csg, o, &CoherentOptions::children_in_lanes, "csg");
+    o = image_view(1);
+    o.mean_value_rays = 16;
+    o.fold_lists = 4;  // folded wherever it drops enough
+    expect_same_either_way(colonnade, o, &CoherentOptions::children_in_lanes, "colonnade");
 }
 
 TEST(Coherent, BlockHullsAreThePixelHulls) {
