@@ -690,6 +690,9 @@ class Walker {
         return std::max(certified_.hit_width_absolute,
                         certified_.hit_width * std::max(0.0, s.tmin));
     }
+    /// split_screen() walks the quarters of a node in lanes where its list has at most this many
+    /// instructions.
+    static constexpr std::size_t kLanesList = 256;
     /// A list this long scans CoherentOptions::long_together_rays together.
     static constexpr std::size_t kLongList = 200;
     /// At most this many pieces a leaf segment is scanned in; longer ones go to the solver.
@@ -1241,7 +1244,10 @@ void Walker::split_screen(const Rect& r, double a, double b, const Ssa& list,
     if (r.w > w1) quarter[n++] = {r.i0 + w1, r.j0, r.w - w1, h1};
     if (r.h > h1) quarter[n++] = {r.i0, r.j0 + h1, w1, r.h - h1};
     if (r.w > w1 && r.h > h1) quarter[n++] = {r.i0 + w1, r.j0 + h1, r.w - w1, r.h - h1};
-    if (!options_.children_in_lanes) {
+    // A long list's registers of 64 lanes (a KiB each) outgrow the caches where a walk per quarter
+    // stays in them: the molecule's lists of thousands of instructions took 1.1× the time (a limit
+    // of 256: the same as a walk per quarter, within the noise).
+    if (!options_.children_in_lanes || list.size() > kLanesList) {
         for (int k = 0; k < n; ++k) node(quarter[k], a, b, list, tape, depth);
         return;
     }

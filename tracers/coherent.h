@@ -166,8 +166,9 @@ struct CoherentOptions {
     /// Where the descent prunes (min/max choices) or folds, each quarter's slot enclosures are
     /// kept from the lanes for it (since session 23; csg.expr 0.92 of the time, the gyroid 0.96,
     /// Fidget's colonnade heightmap 0.98). The forms of all four are tried before the first
-    /// quarter descends, so the adaptive trials may decide otherwise than without. Off: a walk
-    /// per quarter.
+    /// quarter descends, so the adaptive trials may decide otherwise than without. Lists of more
+    /// than 256 instructions keep a walk per quarter (their registers of 64 lanes outgrow the
+    /// caches: the molecule took 1.1× the time). Off: a walk per quarter.
     bool children_in_lanes = true;
     /// Where a node's mean value form does not prove its box, the form read as a line in t
     /// (f ∈ p + (t − tc)·q on every ray of the node) narrows the node's [a, b] to where that line
