@@ -251,8 +251,9 @@ class Walker {
         prune_ws_.fold_points = false;  // the lists' gradients are the hits' normals
     }
 
-    /// Answers every pixel of the root tile r.
-    void tile(const Rect& r);
+    /// Answers every pixel of the root tile r. True where every pixel is a Miss with no evaluation
+    /// of its own, answered without building the rays (ortho_tile_free, PixelRays::misses).
+    bool tile(const Rect& r);
 
     CoherentStats stats;
     EvalCounts evals;
@@ -967,7 +968,7 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
     return m + t * across + along * (t - UpInterval(tc));
 }
 
-void Walker::tile(const Rect& r) {
+bool Walker::tile(const Rect& r) {
     root_ = r;
     mean_values_.reset();  // each tile decides afresh (the same in any thread)
     wide_forms_.reset();
@@ -985,8 +986,11 @@ void Walker::tile(const Rect& r) {
             ans_.normal[k] = {0.f, 0.f, 0.f};
         }
     }
-    if (rays_.projection() == Projection::Ortho && ortho_tile_free(r)) return;
-    if (rays_.misses(r.i0, r.j0, r.w, r.h)) return;  // no ray to build: every pixel a Miss
+    if ((rays_.projection() == Projection::Ortho && ortho_tile_free(r)) ||
+        rays_.misses(r.i0, r.j0, r.w, r.h)) {  // no ray to build: every pixel a Miss
+        ++stats.empty_tiles;
+        return true;
+    }
     px_.assign(std::size_t{r.w} * r.h, Px{});
     blocks_w_ = (r.w + kBlock - 1) / kBlock;
     blocks_.assign(std::size_t{blocks_w_} * ((r.h + kBlock - 1) / kBlock), Block{});
@@ -1018,6 +1022,7 @@ void Walker::tile(const Rect& r) {
         node(r, a, b, tape_.ssa(), &tape_, 0);
     }
     // Open rays left are proven free of zeros on their whole segment: Misses (the default).
+    return false;
 }
 
 bool Walker::ortho_tile_free(const Rect& r) {
@@ -2626,7 +2631,21 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
     if (colour_tiles)
         result.image = RgbImage(ans.width, ans.height, boost::container::default_init);
     // The tile's pixels counted (and coloured) once the walk has answered them.
-    const auto finish = [&](const Rect& r, RenderStats& c) {
+    // A tile answered without its rays (every pixel a Miss with no evaluation, so each row's
+    // colour is its first pixel's): counted at once, its rows filled with that colour.
+    const auto finish = [&](const Rect& r, RenderStats& c, bool empty) {
+        if (empty) {
+            c.miss += std::size_t{r.w} * r.h;
+            if (!colour_tiles) return;
+            for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
+                colorize_span(ans, aov, scale, j, r.i0, r.i0 + 1, result.image);
+                const std::uint8_t* first = result.image.at(r.i0, j);
+                for (unsigned i = r.i0 + 1; i < r.i0 + r.w; ++i) {
+                    result.image.set(i, j, first[0], first[1], first[2]);
+                }
+            }
+            return;
+        }
         for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
             const std::size_t row = std::size_t{j} * ans.width;
             for (std::size_t k = row + r.i0; k < row + r.i0 + r.w; ++k) {
@@ -2650,8 +2669,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
                 const unsigned j0 = static_cast<unsigned>(t / tiles_x) * side;
                 const Rect r{i0, j0, std::min(side, ans.width - i0),
                              std::min(side, ans.height - j0)};
-                walker.tile(r);
-                finish(r, counts[w]);
+                finish(r, counts[w], walker.tile(r));
                 if (progress) progress->done.fetch_add(1, std::memory_order_relaxed);
             }
             walk_stats[w] = walker.stats;
@@ -2690,6 +2708,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.folded_instructions += s.folded_instructions;
         total.folded_scans += s.folded_scans;
         total.clipped += s.clipped;
+        total.empty_tiles += s.empty_tiles;
     }
     if (stats != nullptr) *stats = total;
     if (!colour_tiles) {

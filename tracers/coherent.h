@@ -247,6 +247,9 @@ struct CoherentStats {
     /// node boxes and scanned segments whose parameter range the line of their mean value form
     /// narrowed (or proved free where the form's own enclosure did not; clip_forms)
     std::uint64_t clipped = 0;
+    /// root tiles answered without building their rays: every pixel a Miss (a heightmap's tile
+    /// proven free by one box, a pinhole tile whose rays all miss the bounds)
+    std::uint64_t empty_tiles = 0;
     std::uint64_t tape_length = 0;  ///< instructions of the full tape
 };
 

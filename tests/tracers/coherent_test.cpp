@@ -863,10 +863,13 @@ TEST(Coherent, WideBoxFormsOnSmoothListsKeepTheAnswers) {
 
 /// Each worker colours its tiles as it answers them (shade, normal, status) and counts their
 /// pixels: the image is colorize()'s of the answers, for every AOV, and the counts are the
-/// answers', whatever the tiles (an image not a multiple of the root tile) and threads.
+/// answers', whatever the tiles (an image not a multiple of the root tile) and threads; also
+/// where tiles are answered without their rays (a heightmap over bounds wider than the torus,
+/// a camera that sees past the bounds), counted at once and filled with their rows' colours.
 TEST(Coherent, ImageAndCountsAreThoseOfTheAnswers) {
     const expr::Tape tape(expr::parse_expr("(x^2 + y^2 + z^2 + 0.84)^2 - 4*(x^2 + y^2)"));
-    for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
+    for (int view = 0; view < 4; ++view) {
+        const Projection p = view % 2 == 0 ? Projection::Pinhole : Projection::Ortho;
         for (Aov aov : {Aov::Shade, Aov::Depth, Aov::Steps, Aov::Normal, Aov::Status}) {
             for (unsigned threads : {1u, 3u}) {
                 CoherentOptions o = small_view(p);
@@ -875,7 +878,19 @@ TEST(Coherent, ImageAndCountsAreThoseOfTheAnswers) {
                 o.render.aov = aov;
                 o.render.threads = threads;
                 o.depth_pixels = 0.5;
-                const RenderResult r = render_3d_coherent(tape, o);
+                if (view >= 2) {
+                    o.render.width = 70;
+                    o.render.height = 53;
+                    // Pinhole: the bounds' box seen from afar, small in a wide view.
+                    o.render.camera.eye = {9, -12, 6};
+                    o.render.camera.fov_degrees = 60;
+                    if (p == Projection::Ortho) o.render.bounds = {{{-4, 4}, {-4, 4}, {-2, 2}}};
+                }
+                CoherentStats stats;
+                const RenderResult r = render_3d_coherent(tape, o, &stats);
+                if (view >= 2) {
+                    EXPECT_GT(stats.empty_tiles, 0u) << view;
+                }
                 const RgbImage want = colorize(r.answers, aov, o.render.light, 1);
                 EXPECT_EQ(r.image.width, want.width);
                 EXPECT_EQ(r.image.height, want.height);
