@@ -254,12 +254,18 @@ class Walker {
     /// Answers every pixel of the root tile r. True where every pixel is a Miss with no evaluation
     /// of its own, answered without building the rays (ortho_tile_free, PixelRays::misses).
     bool tile(const Rect& r);
+    /// tile()'s walk over the rays of r.
+    void walk_tile(const Rect& r);
 
     CoherentStats stats;
     EvalCounts evals;
 
   private:
-    Px& px(unsigned i, unsigned j) { return px_[(j - root_.j0) * root_.w + (i - root_.i0)]; }
+    /// Pixel (i, j)'s index in the root tile (row by row).
+    std::size_t slot(unsigned i, unsigned j) const {
+        return std::size_t{j - root_.j0} * root_.w + (i - root_.i0);
+    }
+    Px& px(unsigned i, unsigned j) { return px_[slot(i, j)]; }
     /// The hull of the open rays of a rectangle, and the count of answered rays when it was taken.
     struct Hull {
         double olo[3] = {kInf, kInf, kInf}, ohi[3] = {-kInf, -kInf, -kInf};
@@ -598,8 +604,8 @@ class Walker {
     /// The normals of the hits answer() left waiting: one walk of Dual<double, 3> lanes of their
     /// list over their points (expr/eval_dual_batch.h: each the same bits as a walk of its own).
     void flush_normals();
-    /// Writes pixel k's normal from the gradient g, turned to face the ray's direction d (in
-    /// round-to-nearest).
+    /// Writes the normal of the root tile's pixel in slot k from the gradient g, turned to face the
+    /// ray's direction d (in round-to-nearest).
     void set_normal(std::size_t k, const Vec3& g, const Vec3& d);
     /// o + t·d, where a hit's normal is taken (in round-to-nearest, as render_3d takes it).
     static Vec3 point_at(const Ray& ray, double t) {
@@ -666,6 +672,13 @@ class Walker {
     expr::PruneWorkspace prune_ws_;
     Rect root_{0, 0, 0, 0};
     std::vector<Px> px_;
+    /// The root tile's answers (tile()), by slot: status, hit t, evaluations and normal.
+    struct Mine {
+        std::vector<Status> status;
+        std::vector<double> t;
+        std::vector<std::uint64_t> evals;
+        std::vector<std::array<float, 3>> normal;
+    } mine_;
     std::vector<Ray> row_rays_;  ///< tile()'s rays of a row, and which meet the bounds
     boost::container::vector<bool> row_in_;
     std::uint64_t answered_ = 0;  ///< rays answered so far (hulls taken before are stale)
@@ -679,7 +692,7 @@ class Walker {
     const Ssa* defer_list_ = nullptr;
     const Ssa* pending_list_ = nullptr;
     /// The hits waiting for their normals (flush_normals).
-    std::size_t pending_px_[expr::kDualLanes];           ///< their pixels
+    std::size_t pending_px_[expr::kDualLanes];           ///< their pixels' slots
     double pending_t_[expr::kDualLanes];                 ///< their hits' parameters
     const Ray* pending_ray_[expr::kDualLanes];           ///< their rays (the pixels')
     std::array<double, 3> pending_q_[expr::kDualLanes];  ///< flush_normals()'s points
@@ -977,20 +990,33 @@ bool Walker::tile(const Rect& r) {
     plain_tried_ = plain_free_ = 0;
     fold_trial_.reset();
     root_box_.reset();
-    for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {  // a miss until answered
-        const std::size_t row = std::size_t{j} * ans_.width;
-        for (std::size_t k = row + r.i0; k < row + r.i0 + r.w; ++k) {
-            ans_.status[k] = Status::Miss;
-            ans_.t[k] = std::numeric_limits<double>::quiet_NaN();
-            ans_.evals[k] = 0;
-            ans_.normal[k] = {0.f, 0.f, 0.f};
-        }
-    }
-    if ((rays_.projection() == Projection::Ortho && ortho_tile_free(r)) ||
-        rays_.misses(r.i0, r.j0, r.w, r.h)) {  // no ray to build: every pixel a Miss
+    // The tile's answers, a miss until answered: kept here while the walk writes them (a few
+    // KiB, in cache) and written into the image's arrays row by row at the end, one pass instead
+    // of the defaults and then the answers.
+    const std::size_t n = std::size_t{r.w} * r.h;
+    mine_.status.assign(n, Status::Miss);
+    mine_.t.assign(n, std::numeric_limits<double>::quiet_NaN());
+    mine_.evals.assign(n, 0);
+    mine_.normal.assign(n, {0.f, 0.f, 0.f});
+    const bool empty = (rays_.projection() == Projection::Ortho && ortho_tile_free(r)) ||
+                       rays_.misses(r.i0, r.j0, r.w, r.h);  // no ray to build: every pixel a Miss
+    if (empty) {
         ++stats.empty_tiles;
-        return true;
+    } else {
+        walk_tile(r);
     }
+    for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
+        const std::size_t from = std::size_t{j - r.j0} * r.w,
+                          to = std::size_t{j} * ans_.width + r.i0;
+        std::copy_n(mine_.status.data() + from, r.w, ans_.status.data() + to);
+        std::copy_n(mine_.t.data() + from, r.w, ans_.t.data() + to);
+        std::copy_n(mine_.evals.data() + from, r.w, ans_.evals.data() + to);
+        std::copy_n(mine_.normal.data() + from, r.w, ans_.normal.data() + to);
+    }
+    return empty;
+}
+
+void Walker::walk_tile(const Rect& r) {
     px_.assign(std::size_t{r.w} * r.h, Px{});
     blocks_w_ = (r.w + kBlock - 1) / kBlock;
     blocks_.assign(std::size_t{blocks_w_} * ((r.h + kBlock - 1) / kBlock), Block{});
@@ -1020,9 +1046,9 @@ bool Walker::tile(const Rect& r) {
         // and the normals open a NearestScope of their own.
         RoundingScope up;
         node(r, a, b, tape_.ssa(), &tape_, 0);
+        flush_normals();  // (none waits: each scan's wait ends with it)
     }
     // Open rays left are proven free of zeros on their whole segment: Misses (the default).
-    return false;
 }
 
 bool Walker::ortho_tile_free(const Rect& r) {
@@ -2420,10 +2446,9 @@ void Walker::inside(const Rect& r, double a, double b, const Ssa& list) {
 }
 
 void Walker::spend(unsigned i, unsigned j, const EvalCounts& e) {
-    const std::size_t k = std::size_t{j} * ans_.width + i;
     evals += e;
-    ans_.evals[k] += e.total();
-    if (results_ != nullptr) (*results_)[k].evals += e;
+    mine_.evals[slot(i, j)] += e.total();
+    if (results_ != nullptr) (*results_)[std::size_t{j} * ans_.width + i].evals += e;
 }
 
 void Walker::answer(unsigned i, unsigned j, Px& p, const RayResult& res, const Ssa& list, double a,
@@ -2436,12 +2461,12 @@ void Walker::answer(unsigned i, unsigned j, Px& p, const RayResult& res, const S
     ++answered_;
     evals += res.evals;
     const Ray& ray = p.ray;
-    const std::size_t k = std::size_t{j} * ans_.width + i;
-    ans_.status[k] = res.status;
-    ans_.evals[k] += res.evals.total();
-    ans_.t[k] = res.t;
+    const std::size_t k = slot(i, j);
+    mine_.status[k] = res.status;
+    mine_.evals[k] += res.evals.total();
+    mine_.t[k] = res.t;
     if (results_ != nullptr) {
-        RayResult& out = (*results_)[k];
+        RayResult& out = (*results_)[std::size_t{j} * ans_.width + i];
         const EvalCounts before = out.evals;  // of the segments this ray was proven free on
         out = res;
         out.evals += before;
@@ -2480,7 +2505,8 @@ Dual<double, 3> Walker::list_gradient(const Ssa& list, const Vec3& q) {
 void Walker::set_normal(std::size_t k, const Vec3& g, const Vec3& d) {  // in round-to-nearest
     Vec3 n = normalize(g);
     if (dot(n, d) > 0) n = {-n[0], -n[1], -n[2]};
-    ans_.normal[k] = {static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2])};
+    mine_.normal[k] = {static_cast<float>(n[0]), static_cast<float>(n[1]),
+                       static_cast<float>(n[2])};
 }
 
 void Walker::flush_normals() {
