@@ -1586,7 +1586,12 @@ void Walker::load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m) {
     if constexpr (std::is_same_v<L, expr::IntervalLanesF>) {
         // set_bounds()'s outward rounding without its branches (the walk holds the upward mode);
         // a box empty on an axis (not lo ≤ hi) gets UpInterval::empty()'s bounds.
+#ifdef CERTRAY_X86_64_ROUNDING  // MXCSR's rounding field (the x87 word, fegetround's, stays
+                                // nearest)
+        assert((certray::detail::X86RoundingControl::current().mxcsr >> 13 & 3u) == 2u);
+#else
         assert(std::fegetround() == FE_UPWARD);
+#endif
         const float empty_lo = expr::lower_f32(UpInterval::empty().lower());
         const float empty_hi = expr::upper_f32(UpInterval::empty().upper());
         for (int c = 0; c < 3; ++c) {
