@@ -324,7 +324,8 @@ class Walker {
     /// The open rays of r whose segments meet [a, b]: their count and the hull of their origins,
     /// directions and parameter ranges. Over the blocks of kBlock × kBlock pixels that r covers
     /// whole, a block whose open rays all meet [a, b] gives its cached hull (Block) instead of a
-    /// pass over its pixels: the same hull (minima and maxima in another order).
+    /// pass over its pixels: the same hull (minima and maxima in another order; a bound of 0
+    /// reached as +0 and −0 may take the other sign).
     Hull hull_of(const Rect& r, double a, double b);
     /// The hull of the open rays of a block of the root tile, each ray's whole segment, kept
     /// while none of them is answered (answer() marks it stale): their count, the hull of their

@@ -177,9 +177,9 @@ struct CoherentOptions {
     bool clip_forms = true;
     /// A node's hull over the blocks of 4 × 4 pixels that its rectangle covers whole comes from
     /// each block's hull of its open rays, kept until one of them is answered, where all of them
-    /// meet the node's [a, b] (else from the block's pixels): the same hulls, bit for bit, with
-    /// a pass over each block's pixels only when it changed. Off: every node passes over its
-    /// pixels.
+    /// meet the node's [a, b] (else from the block's pixels): the same hulls, bit for bit (but the
+    /// sign of a bound of 0 reached as +0 and −0), with a pass over each block's pixels only when
+    /// it changed. Off: every node passes over its pixels.
     bool block_hulls = true;
     /// The scans' walks in lanes (pieces, points, tiles, quarters, segment enclosures and forms)
     /// run in binary32 bounds (expr/eval_interval_batch.h: eight lanes per AVX2 instruction
