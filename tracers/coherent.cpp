@@ -1584,39 +1584,21 @@ void Walker::ray_form_lanes(const expr::TangentList& tl, RayForm* forms, int n) 
 template <class L>
 void Walker::load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m) {
     static_assert(expr::kIntervalLanes <= 64, "one word of decorations per register");
-    if constexpr (std::is_same_v<L, expr::IntervalLanesF>) {
-        // set_bounds()'s outward rounding without its branches (the walk holds the upward mode);
-        // a box empty on an axis (not lo ≤ hi) gets UpInterval::empty()'s bounds.
-#ifdef CERTRAY_X86_64_ROUNDING  // MXCSR's rounding field (the x87 word, fegetround's, stays
-                                // nearest)
-        assert((certray::detail::X86RoundingControl::current().mxcsr >> 13 & 3u) == 2u);
+    // The walks hold the upward mode, in which set_bounds_upward rounds binary32 bounds outward
+    // without set_bounds' branches (MXCSR's field on x86-64: the x87 word, which fegetround
+    // reads there, stays nearest).
+#ifdef CERTRAY_X86_64_ROUNDING
+    assert((certray::detail::X86RoundingControl::current().mxcsr >> 13 & 3u) == 2u);
 #else
-        assert(std::fegetround() == FE_UPWARD);
+    assert(std::fegetround() == FE_UPWARD);
 #endif
-        const float empty_lo = expr::lower_f32(UpInterval::empty().lower());
-        const float empty_hi = expr::upper_f32(UpInterval::empty().upper());
-        for (int c = 0; c < 3; ++c) {
-            L& x = file.in[c];
-            std::uint64_t def = 0;
-            for (int k = 0; k < m; ++k) {
-                const double lo = boxes[k].lo[c], hi = boxes[k].hi[c];
-                const bool ok = lo <= hi;
-                const float flo = expr::lower_f32_upward(lo), fhi = expr::upper_f32_upward(hi);
-                x.lo[k] = ok ? flo : empty_lo;
-                x.hi[k] = ok ? fhi : empty_hi;
-                def |= std::uint64_t{ok} << k;
-            }
-            x.defined[0] = def;
-        }
-        return;
-    }
     for (int c = 0; c < 3; ++c) {
         L& x = file.in[c];
         std::uint64_t def = 0;
         for (int k = 0; k < m; ++k) {
             const double lo = boxes[k].lo[c], hi = boxes[k].hi[c];
             if (lo <= hi) {
-                expr::set_bounds(x, k, lo, hi);  // binary32: rounded outward
+                expr::set_bounds_upward(x, k, lo, hi);
                 def |= std::uint64_t{1} << k;
             } else {
                 expr::set_lane(x, k, UpInterval::empty());
