@@ -767,8 +767,16 @@ class Walker {
         double tc;
         UpInterval centre;
         bool high = false;  ///< decide_monotone(): the zero, if any, lies after tc (b decides)
+        /// G′ ⊇ g′ over [lo, hi], of one strict sign
+        UpInterval slope;
+        /// decide_monotone(): a zero to bracket (the zero set, or the solid's decreasing g), and
+        /// the part [step_lo, step_hi] of the half on its side that the Newton step from tc
+        /// leaves (newton_brackets; else the half)
+        bool bracket = false;
+        double step_lo = 0, step_hi = 0;
     };
     std::vector<Monotone> monotone_;
+    std::vector<Monotone> ready_;  ///< decide_monotone()'s brackets from the steps alone
     /// scan_together()'s tile pieces: their boxes, enclosures and ends (piece k is
     /// [tile_t_[k], tile_t_[k + 1]]).
     std::vector<LaneBox> tile_boxes_;
@@ -2287,7 +2295,8 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
                 // folded list h(·, s) is, for each value s of the fixed inputs, which is what
                 // decide_monotone() needs: docs/theory/coherent.md).
                 monotone_.push_back({form_of_[l], z.s.tmin, z.s.tmax, 0, g1.upper() < 0,
-                                     midpoint(UpInterval(z.s.tmin, z.s.tmax)), quarter_points_[l]});
+                                     midpoint(UpInterval(z.s.tmin, z.s.tmax)), quarter_points_[l],
+                                     false, g1});
             } else if (options_.clip_forms && e.defined && finite(g1) &&
                        !quarter_points_[l].is_empty() && quarter_points_[l].defined) {
                 // The form as a line in t narrows the segment its pieces cover.
@@ -2309,13 +2318,18 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
 }
 
 void Walker::decide_monotone(const Ssa& list, Level& level) {
-    // g at the middle tc and at one end (one batched walk; below). Points of one strict sign (the
-    // solid: both ≥ 0) prove the part between them free; points of strict opposite signs (the
-    // zero set) hold a zero (exactly one unless the list is folded), bracketed by halving [lo, hi]
-    // at points (a walk per round) until it is as deep as a piece: Hit [lo, hi], with none before
-    // lo (g keeps g(lo)'s strict sign on [a, lo]). The solid's g decreasing from g(lo) ≥ 0 to
-    // g(hi) < 0 enters once, bracketed alike. A midpoint whose sign is not proven ends the
-    // halving: the ray is scanned in pieces from lo.
+    // g at the middle tc (the form's lane) and, where that does not decide, at one end (one
+    // batched walk; below). Points of one strict sign (the solid: both ≥ 0) prove the part
+    // between them free; points of strict opposite signs (the zero set) hold a zero (exactly one
+    // unless the list is folded), bracketed by halving [lo, hi] at points (a walk per round)
+    // until it is as deep as a piece: Hit [lo, hi], with none before lo. The solid's g
+    // decreasing from g(lo) ≥ 0 to g(hi) < 0 enters once, bracketed alike. A midpoint whose side
+    // is not proven ends the halving: the ray is scanned in pieces from lo.
+    // With newton_brackets, g's value at a point c also gives the interval Newton step
+    // c − g(c)/G′, which holds every zero of g on the segment (G′ ⊇ g′ there, of one strict
+    // sign; docs/theory/coherent.md): the bracket is narrowed to it, and where the step from tc
+    // ends inside the segment, g has crossed 0 by its far end, so it brackets the zero without
+    // the end's point. Near a simple zero the step is a few ulps wide where g(c) is small.
     if (monotone_.empty()) return;
     // The side of a value: the solid's ≥ 0 (1) or < 0 (−1), the zero set's strict sign; 0: not
     // proven.
@@ -2323,28 +2337,66 @@ void Walker::decide_monotone(const Ssa& list, Level& level) {
         if (!solid_) return strict_sign(v);
         return !v.defined ? 0 : v.lower() >= 0 ? 1 : v.upper() < 0 ? -1 : 0;
     };
-    // g at the middle tc is known (the form's lane). Where its side is proven, one end decides:
-    // g moves away from g(tc) towards one end (the zero set: decreasing from > 0 or increasing
-    // from < 0 moves towards 0 after tc; the solid decreasing from ≥ 0 likewise), so the other
-    // half has g(tc)'s side, and the end on the zero's side either has that side too (free) or
-    // the other one (a bracket half as deep). The solid increasing: g(a) is its least value.
-    // Where g(tc)'s side is not proven (none of the gallery's segments), the zero lies near tc:
-    // the ray is scanned in pieces.
+    const bool newton = options_.newton_brackets;
+    // The Newton step from c, empty where g(c) is not proven defined and bounded.
+    const auto step = [&](const Monotone& mo, double c, const UpInterval& gc) {
+        if (!newton || !gc.defined || !finite(gc)) return UpInterval::empty();
+        return UpInterval(c) - gc / mo.slope;
+    };
+    // [lo, hi] narrowed to the step n: every zero lies in n. The solid's g ≤ 0 at n's upper end
+    // (past every zero), so g < 0 just after it (g strictly decreasing): hi is the next double.
+    const auto narrow = [&](Monotone& mo, const UpInterval& n) {
+        if (n.is_empty()) return;
+        mo.lo = std::max(mo.lo, n.lower());
+        const double up = solid_ ? std::nextafter(n.upper(), kInf) : n.upper();
+        mo.hi = std::min(mo.hi, up);
+    };
+    // g at the middle tc is known. Where its side is proven, g moves away from g(tc) towards one
+    // end (the zero set: decreasing from > 0 or increasing from < 0 moves towards 0 after tc; the
+    // solid decreasing from ≥ 0 likewise), so the other half has g(tc)'s side, and the end on
+    // the zero's side either has that side too (free) or the other one (a bracket half as deep).
+    // The solid increasing: g(a) is its least value. Where g(tc)'s side is not proven (none of
+    // the gallery's segments), the zero lies near tc: the ray is scanned in pieces.
+    // The step from tc narrows that half to where a zero may be; a step that misses it proves
+    // the half free of zeros (free where g(tc)'s side is: the solid's g < 0 there is left to
+    // its pieces). A step whose far end lies inside the segment brackets the zero by itself:
+    // g there has crossed 0 (the mean value theorem with G′'s bound nearest 0), no end point.
     std::size_t open = 0;
+    ready_.clear();
     points_.clear();
     for (Monotone& mo : monotone_) {
         const int sc = side(mo.centre);
         if (sc == 0) continue;
+        Level::Scanned& z = level.scanned[mo.ray];
         mo.sign = sc;
         mo.high = mo.decreasing ? sc == 1 : !solid_ && sc == -1;
-        const Ray& full = px(level.scanned[mo.ray].i, level.scanned[mo.ray].j).ray;
+        mo.bracket = !solid_ || mo.decreasing;
+        mo.step_lo = mo.high ? mo.tc : mo.lo;
+        mo.step_hi = mo.high ? mo.hi : mo.tc;
+        if (mo.bracket) {
+            const UpInterval n = step(mo, mo.tc, mo.centre);
+            Monotone half = mo;
+            half.lo = mo.step_lo;
+            half.hi = mo.step_hi;
+            narrow(half, n);
+            if (!(half.lo <= half.hi)) {
+                if (!solid_ || sc == 1) prove_free(z);
+                continue;  // the solid's g < 0 on [a, tc]: its pieces
+            }
+            mo.step_lo = half.lo;
+            mo.step_hi = half.hi;
+            if (!n.is_empty() && (mo.high ? n.upper() < mo.hi : n.lower() > mo.lo)) {
+                half.sign = mo.high ? sc : -sc;
+                ready_.push_back(half);
+                continue;
+            }
+        }
         const double end = mo.high ? mo.hi : mo.lo;
-        points_.push_back(lane_box(full, end, end));
+        points_.push_back(lane_box(px(z.i, z.j).ray, end, end));
         monotone_[open++] = mo;
     }
     monotone_.resize(open);
-    if (open == 0) return;
-    eval_lanes(list, points_.data(), points_.size(), quarter_points_, &level);
+    if (open > 0) eval_lanes(list, points_.data(), points_.size(), quarter_points_, &level);
     open = 0;
     for (std::size_t k = 0; k < monotone_.size(); ++k) {
         Monotone& mo = monotone_[k];
@@ -2352,21 +2404,19 @@ void Walker::decide_monotone(const Ssa& list, Level& level) {
         const int sc = mo.sign, s_end = side(quarter_points_[k]);
         ++z.res.evals.interval;
         bool free = false, bracket = false;
-        if (solid_ && !mo.decreasing) {
-            free = s_end == 1;  // g(a) ≥ 0, its least value
+        if (!mo.bracket) {
+            free = s_end == 1;  // the solid increasing: g(a) ≥ 0, its least value
         } else if (s_end == sc) {
             free = !solid_ || sc == 1;  // the solid's g < 0 at both: it entered at a
         } else if (s_end == -sc) {
             bracket = true;
-            // [tc, b] after the middle (g(tc) keeps its side on [a, tc]), else [a, tc].
-            if (mo.high) {
-                mo.lo = mo.tc;
-            } else {
-                mo.hi = mo.tc;
-                mo.sign = s_end;
-            }
+            // The half after the middle (g(tc) keeps its side on [a, tc]), else the one before
+            // it, as far as the step leaves it.
+            mo.lo = mo.step_lo;
+            mo.hi = mo.step_hi;
+            if (!mo.high) mo.sign = s_end;
         } else if (mo.high) {
-            z.s.tmin = mo.tc;  // free before tc: its pieces from there
+            z.s.tmin = mo.step_lo;  // free before the step's part: its pieces from there
         }
         if (free) {
             prove_free(z);
@@ -2376,7 +2426,9 @@ void Walker::decide_monotone(const Ssa& list, Level& level) {
         monotone_[open++] = mo;
     }
     monotone_.resize(open);
-    stats.monotone_segments += open;
+    monotone_.insert(monotone_.end(), ready_.begin(), ready_.end());
+    stats.monotone_segments += monotone_.size();
+    stats.newton_brackets += ready_.size();
     while (!monotone_.empty()) {
         // Halving: the brackets deeper than a piece get their midpoints.
         points_.clear();
@@ -2400,14 +2452,19 @@ void Walker::decide_monotone(const Ssa& list, Level& level) {
             Level::Scanned& z = level.scanned[mo.ray];
             const double mid = 0.5 * mo.lo + 0.5 * mo.hi;
             ++z.res.evals.interval;
-            // The solid keeps g(lo) ≥ 0 (so g ≥ 0 on [a, lo]) and g(hi) < 0.
+            // The solid keeps g(lo) ≥ 0 (so g ≥ 0 on [a, lo]) and g < 0 at hi.
             const int sm = side(quarter_points_[k]);
             if (sm == mo.sign) {
                 mo.lo = mid;
             } else if (sm == -mo.sign) {
                 mo.hi = mid;
-            } else {
-                z.s.tmin = mo.lo;  // free before lo: its pieces from there
+            }
+            const double width = mo.hi - mo.lo;
+            narrow(mo, step(mo, mid, quarter_points_[k]));
+            // A side not proven and a step that leaves more than half: its pieces from lo
+            // (free before it).
+            if (sm == 0 && !(mo.hi - mo.lo <= 0.5 * width)) {
+                z.s.tmin = mo.lo;
                 continue;
             }
             monotone_[open++] = mo;
@@ -2718,6 +2775,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.wide_forms += s.wide_forms;
         total.segment_forms += s.segment_forms;
         total.monotone_segments += s.monotone_segments;
+        total.newton_brackets += s.newton_brackets;
         total.folds += s.folds;
         total.folded_instructions += s.folded_instructions;
         total.folded_scans += s.folded_scans;
