@@ -2276,9 +2276,24 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
         dirs_.resize(rest);
     }
     if (!form_of_.empty()) {
-        eval_tangent_lanes(tl, form_boxes_.data(), dirs_.data(), form_boxes_.size(), lane_values_,
-                           lane_slopes_, &level);
-        eval_lanes(list, points_.data(), points_.size(), quarter_points_, &level);
+        // The middles' values: lanes of the tangent list's walk where they fit in its vector
+        // (its value lanes are the list's, bit for bit: a walk of the list spared), else a walk
+        // of the list.
+        const std::size_t n = form_of_.size();
+        if (options_.middles_in_forms && 2 * n <= kWalkLanes) {
+            form_boxes_.insert(form_boxes_.end(), points_.begin(), points_.end());
+            dirs_.resize(2 * n);
+            std::copy_n(dirs_.begin(), n, dirs_.begin() + static_cast<std::ptrdiff_t>(n));
+            eval_tangent_lanes(tl, form_boxes_.data(), dirs_.data(), 2 * n, lane_values_,
+                               lane_slopes_, &level);
+            if (quarter_points_.size() < n) quarter_points_.resize(n);
+            std::copy_n(lane_values_.begin() + static_cast<std::ptrdiff_t>(n), n,
+                        quarter_points_.begin());
+        } else {
+            eval_tangent_lanes(tl, form_boxes_.data(), dirs_.data(), n, lane_values_, lane_slopes_,
+                               &level);
+            eval_lanes(list, points_.data(), points_.size(), quarter_points_, &level);
+        }
         for (std::size_t l = 0; l < form_of_.size(); ++l) {
             Level::Scanned& z = level.scanned[form_of_[l]];
             const UpInterval& e = lane_values_[l];

@@ -160,6 +160,10 @@ struct CoherentOptions {
     /// segment's end. The answers keep their meaning; their brackets are narrower. Off: halving
     /// alone.
     bool newton_brackets = true;
+    /// The segment forms' middles as lanes of the tangent list's walk (whose value lanes are the
+    /// list's, bit for bit) where forms and middles fit in one vector, instead of a walk of the
+    /// list of their own. The same answers, bit for bit. Off: two walks.
+    bool middles_in_forms = true;
     /// With the segment forms on a folded list (fold_lists), the segments' plain enclosures are
     /// walked first where they prove enough of the segments free (3 in 10 so far in the root
     /// tile), and only the other segments walk the tangent list and the list at their middles.

@@ -842,6 +842,21 @@ void expect_same_either_way(const expr::Tape& tape, CoherentOptions o, bool Cohe
     EXPECT_GT(a.stats.hit, 0u) << where;
 }
 
+TEST(Coherent, MiddlesInFormsAreTheMiddlesWalkedAlone) {
+    // The segment forms' middles as lanes of the tangent list's walk (middles_in_forms) have the
+    // values of a walk of the list: every answer, enclosure, evaluation count and image the same.
+    // Barth's sextic (pinhole, zero set), Chmutov's (heightmap, solid) and Fidget's bear
+    // (heightmap, solid, folded lists, whose segments' plain enclosures may come first).
+    const expr::Tape barth(expr::load_graph_file((kScenes / "barth_sextic.vm").string()));
+    const expr::Tape chmutov(expr::load_graph_file((kScenes / "chmutov6.vm").string()));
+    const expr::Tape bear(expr::load_graph_file((kScenes / "fidget" / "bear.vm").string()));
+    expect_same_either_way(barth, image_view(0), &CoherentOptions::middles_in_forms, "Barth");
+    expect_same_either_way(chmutov, image_view(1), &CoherentOptions::middles_in_forms, "Chmutov");
+    CoherentOptions o = image_view(1);
+    o.render.bounds = {{{-1, 1}, {-1, 1}, {-1, 1}}};
+    expect_same_either_way(bear, o, &CoherentOptions::middles_in_forms, "bear");
+}
+
 TEST(Coherent, QuartersInLanesAreTheQuartersWalkedOneByOne) {
     // A node's four quarters evaluated in lanes of one walk, and their mean value forms in lanes
     // of another (children_in_lanes), give each quarter the enclosure and form of its own walks
