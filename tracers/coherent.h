@@ -113,8 +113,10 @@ struct CoherentOptions {
     /// together_rays where the node's list has a tangent list (expr/tangent.h) and
     /// lane_mean_value is on: the pieces' mean value forms in lanes make wider scans pay. 16
     /// measured best of 4–32 on Barth's sextic, the tanglecube and Chmutov's sextic (–10 to
-    /// –21% against 8; docs/benchmarks.md, session 10).
-    unsigned smooth_together_rays = 16;
+    /// –21% against 8; docs/benchmarks.md, session 10); 32 since session 24, with the segment
+    /// forms and Newton brackets (pairs at one thread against 16: Clebsch's heightmap 0.95,
+    /// Chmutov's 256² heightmap 0.96, Barth's zero set 0.98, the others 0.98–1.01).
+    unsigned smooth_together_rays = 32;
     /// together_rays where the node's list has at least 200 instructions: one walk of a long list
     /// costs more per call, so more rays share it. 16 measured −14% on Fidget's bear (lists of
     /// about 400 instructions) and −10% on the molecule against 8, the colonnade's short lists
