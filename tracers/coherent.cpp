@@ -74,6 +74,8 @@ struct PayingTrial {
         return false;
     }
     void reset() { tries = wins = passed = 0; }
+    /// Whether it is tried every time now (the first tries, or while it wins).
+    bool paying() const { return tries < First || Share * wins >= tries; }
 };
 
 /// The pixels [i0, i0 + w) × [j0, j0 + h) of the image.
@@ -376,6 +378,27 @@ class Walker {
     /// the node's box.
     bool scan_together(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
                        Level& level, unsigned depth, const Hull& hull, bool folded_only = false);
+    /// A node's rectangle and parameter range, scanned with others (scan_groups).
+    struct ScanGroup {
+        Rect r;
+        double a, b;
+        const Hull* hull;  ///< its open rays' hull (their tile pieces, and the fold of one group)
+    };
+    /// scan_together() for the open rays of up to four nodes of one list at once, each over its
+    /// own [a, b] (their rays disjoint), each with its own tile pieces: the groups whose segments
+    /// are all short enough, as a bit mask (none evaluated otherwise). The list is folded only
+    /// for one group.
+    unsigned scan_groups(const ScanGroup* groups, int n, const Ssa& list, const expr::Tape* tape,
+                         Level& level, unsigned depth, bool folded_only);
+    /// Whether descend() scans a node of `count` open rays of `list` (kept at `depth`) together
+    /// (scan_together) before it splits it.
+    bool scans_together(unsigned count, const Ssa& list, unsigned depth) {
+        const unsigned plain =
+            list.size() >= kLongList ? options_.long_together_rays : options_.together_rays;
+        return count <= plain ||
+               (count <= options_.smooth_together_rays && options_.lane_mean_value &&
+                tangent_kind(list, depth) == expr::TangentKind::Smooth);
+    }
     /// scan_together()'s segment forms (CoherentOptions::segment_forms) on the rays of
     /// level.scanned not yet decided, where `list` (kept at `depth`) is smooth and the root tile's
     /// trial allows: a segment proven free is left empty (no pieces); with monotone_segments, the
@@ -753,6 +776,7 @@ class Walker {
     struct Segment {
         unsigned i, j;
         double tmin, tmax;
+        int group;  ///< its ScanGroup
     };
     std::vector<Segment> segments_;
     /// scan_together()'s strictly monotone segments (CoherentOptions::monotone_segments): the
@@ -781,7 +805,8 @@ class Walker {
     /// [tile_t_[k], tile_t_[k + 1]]).
     std::vector<LaneBox> tile_boxes_;
     std::vector<UpInterval> tile_values_;
-    std::array<double, 2 * kMaxPieces + 1> tile_t_{};
+    /// Per ScanGroup (scan_groups).
+    std::array<std::array<double, 2 * kMaxPieces + 1>, 4> tile_t_{};
     std::vector<Piece> pieces_;
     std::vector<std::size_t> first_piece_, point_lane_;
     /// scan_together()'s rays waiting for the quarters of their piece (first_piece_): the piece
@@ -1236,11 +1261,7 @@ void Walker::descend(const Rect& r, double a, double b, const Ssa& list, const e
     // Smooth lists (a tangent list without kinks) get their scans' forms in lanes and tight:
     // wider scans pay there (kinked ones keep 8: their forms at ties are looser).
     // Long lists too: a walk's cost per instruction is then spread over more lanes.
-    const unsigned plain =
-        sub->size() >= kLongList ? options_.long_together_rays : options_.together_rays;
-    const bool together =
-        count <= plain || (count <= options_.smooth_together_rays && options_.lane_mean_value &&
-                           tangent_kind(*sub, depth) == expr::TangentKind::Smooth);
+    const bool together = scans_together(count, *sub, depth);
     if (together && scan_together(r, a, b, *sub, sub_tape, level, depth, hull)) {
         return;
     }
@@ -1372,7 +1393,29 @@ void Walker::split_screen(const Rect& r, double a, double b, const Ssa& list,
             mean_value_tried(h.count, take_form(f, lin, z.proven, z.a, z.b));
         }
     }
+    // The quarters that descend() would scan at once, scanned together (merged_scans): their
+    // rays are disjoint, and one list without a prune or fold serves them all, so each phase of
+    // the scan is one walk for all of them where it was one per quarter.
+    unsigned merged = 0;
+    if (options_.merged_scans && !keep_values && m >= 2 &&
+        !(options_.tile_pieces && tile_trial_.paying())) {
+        ScanGroup groups[4];
+        int of[4];
+        int g = 0;
+        for (int l = 0; l < m; ++l) {
+            const Quarter& z = q[live[l]];
+            if (z.proven != Proof::None || !scans_together(z.hull.count, list, depth)) continue;
+            groups[g] = {quarter[live[l]], z.a, z.b, &z.hull};
+            of[g++] = l;
+        }
+        if (g >= 2) {
+            const unsigned taken = scan_groups(groups, g, list, tape, level, depth, false);
+            stats.merged_scans += std::popcount(taken) >= 2;
+            for (int k = 0; k < g; ++k) merged |= (taken >> k & 1u) << of[k];
+        }
+    }
     for (int l = 0; l < m; ++l) {
+        if (merged >> l & 1u) continue;
         Quarter& z = q[live[l]];
         z.hull.answered = answered_;  // the rays answered since are the other quarters'
         if (keep_values) level.values.swap(level.quarters[l]);
@@ -1780,42 +1823,86 @@ void Walker::eval_tangent_lanes_in(LaneFile<L>& file, const expr::TangentList& t
 bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
                            const expr::Tape* tape, Level& level, unsigned depth, const Hull& hull,
                            bool folded_only) {
+    const ScanGroup one{r, a, b, &hull};
+    return scan_groups(&one, 1, list, tape, level, depth, folded_only) != 0;
+}
+
+unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list,
+                             const expr::Tape* tape, Level& level, unsigned depth,
+                             bool folded_only) {
     // The hits of this scan wait for their normals until it returns (a nested scan's own hits
     // until that one returns).
     const DeferNormals defer(*this, list);
-    // The rays' segments; none scanned if one is too long.
+    // The rays' segments; none of a group scanned if one of its segments is too long.
     segments_.clear();
-    double w_tile = kInf;  // the narrowest piece width
-    for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
-        for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
-            const Px& p = px(i, j);
-            if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
-            Ray s = p.ray;
-            s.tmin = std::max(a, p.ray.tmin);
-            s.tmax = std::min(b, p.ray.tmax);
-            const double w = piece_width(s);
-            if (!(w > 0 && s.tmax - s.tmin <= kMaxPieces * w)) return false;
-            w_tile = std::min(w_tile, w);
-            segments_.push_back({i, j, s.tmin, s.tmax});
+    double w_tile[4];  // per group: the narrowest piece width
+    unsigned taken = 0;
+    for (int g = 0; g < count; ++g) {
+        const Rect& r = groups[g].r;
+        const double a = groups[g].a, b = groups[g].b;
+        const std::size_t mark = segments_.size();
+        double w_group = kInf;
+        bool short_enough = true;
+        for (unsigned j = r.j0; j < r.j0 + r.h && short_enough; ++j) {
+            for (unsigned i = r.i0; i < r.i0 + r.w; ++i) {
+                const Px& p = px(i, j);
+                if (!p.open || p.ray.tmax < a || p.ray.tmin > b) continue;
+                Ray s = p.ray;
+                s.tmin = std::max(a, p.ray.tmin);
+                s.tmax = std::min(b, p.ray.tmax);
+                const double w = piece_width(s);
+                if (!(w > 0 && s.tmax - s.tmin <= kMaxPieces * w)) {
+                    short_enough = false;
+                    break;
+                }
+                w_group = std::min(w_group, w);
+                segments_.push_back({i, j, s.tmin, s.tmax, g});
+            }
         }
+        if (!short_enough) {
+            segments_.resize(mark);
+            continue;
+        }
+        w_tile[g] = w_group;
+        taken |= 1u << g;
     }
-    // Scanned: the list its lanes walk, folded to the node's box where that pays.
-    fold(list, segment_box(hull.olo, hull.ohi, hull.dlo, hull.dhi, a, b), level);
-    if (folded_only && level.folded.list.empty()) return false;
+    if (taken == 0) return 0;
+    // Scanned: the list its lanes walk, folded to the node's box where that pays (one group).
+    if (count == 1) {
+        const Hull& hull = *groups[0].hull;
+        fold(list, segment_box(hull.olo, hull.ohi, hull.dlo, hull.dhi, groups[0].a, groups[0].b),
+             level);
+    } else {
+        level.folded.list.clear();
+        level.folded.fixed.clear();
+        level.folded_tangent.forget();
+    }
+    if (folded_only && level.folded.list.empty()) return 0;
     // Tile pieces: [a, b] cut in pieces of the narrowest width, each one box over all the rays
     // (the hull's), in one batched evaluation. A piece proven free is free on every ray; a ray's
     // first piece not proven free decides it when the piece after it is proven inside (solid:
     // the ray enters {f < 0} in its piece, Hit [p, q]; or at p if the piece itself is inside) or
     // when the pieces either side have strict opposite signs (zero set, f defined and continuous
     // on the piece: Hit [p, q]). Otherwise the ray is scanned alone from that piece on.
-    int tiles = 0;
-    if (options_.tile_pieces && hull.count >= 2 && tile_trial_.attempt()) {
-        const Ray span{{}, {}, a, b};
-        tiles = pieces_of(span, w_tile);
+    // Each group's own tile pieces (its hull's), all groups' in one batched evaluation; the
+    // root tile's trial asked once for the scan.
+    int tiles_of[4] = {0, 0, 0, 0};
+    std::size_t tiles_at[4] = {0, 0, 0, 0};  // a group's first lane
+    tile_boxes_.clear();
+    const auto tiled = [&](int g) { return (taken >> g & 1u) && groups[g].hull->count >= 2; };
+    bool try_tiles = false;
+    for (int g = 0; g < count; ++g) try_tiles = try_tiles || tiled(g);
+    try_tiles = try_tiles && count == 1 && options_.tile_pieces && tile_trial_.attempt();
+    for (int g = 0; g < count && try_tiles; ++g) {
+        const Hull& hull = *groups[g].hull;
+        if (!tiled(g)) continue;
+        const Ray span{{}, {}, groups[g].a, groups[g].b};
+        int& tiles = tiles_of[g];
+        tiles = pieces_of(span, w_tile[g]);
         if (tiles > 2 * kMaxPieces) tiles = 0;
-        tile_boxes_.clear();
+        tiles_at[g] = tile_boxes_.size();
         for (int k = 0; k < tiles; ++k) {
-            const auto [lo, hi] = piece(span, w_tile, k, tiles);
+            const auto [lo, hi] = piece(span, w_tile[g], k, tiles);
             const auto box = segment_box(hull.olo, hull.ohi, hull.dlo, hull.dhi, lo, hi);
             LaneBox lb;
             for (int c = 0; c < 3; ++c) {
@@ -1823,35 +1910,39 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
                 lb.hi[c] = box[c].upper();
             }
             tile_boxes_.push_back(lb);
-            tile_t_[k] = lo;
-            tile_t_[k + 1] = hi;
+            tile_t_[g][k] = lo;
+            tile_t_[g][k + 1] = hi;
         }
-        if (tiles > 0) {
-            eval_lanes(list, tile_boxes_.data(), tiles, tile_values_, &level);
-            stats.tile_pieces += tiles;
-            evals.interval += tiles;
-        }
+    }
+    if (!tile_boxes_.empty()) {
+        eval_lanes(list, tile_boxes_.data(), tile_boxes_.size(), tile_values_, &level);
+        stats.tile_pieces += tile_boxes_.size();
+        evals.interval += tile_boxes_.size();
     }
 
     // Each ray's segment after the tile pieces.
     pieces_.clear();
     level.scanned.clear();
-    std::size_t decided = 0;  // rays the tile pieces answered
-    std::size_t cleared = 0;  // rays the tile pieces answered or proved free on [a, b]
-    int saved = 0;            // pieces of the rays' own that the tile pieces made unnecessary
+    // Per group: rays the tile pieces answered, rays they answered or proved free on [a, b],
+    // pieces of the rays' own that they made unnecessary, and its rays.
+    std::size_t decided[4] = {0, 0, 0, 0}, cleared[4] = {0, 0, 0, 0}, rays_of[4] = {0, 0, 0, 0};
+    int saved[4] = {0, 0, 0, 0};
     for (const Segment& g : segments_) {
         Level::Scanned& z = level.scanned.emplace_back(g.i, g.j, px(g.i, g.j).ray, g.tmin, g.tmax);
         Ray& s = z.s;
         RayResult& res = z.res;
-        if (tiles > 0) {
+        ++rays_of[g.group];
+        if (const int tiles = tiles_of[g.group]; tiles > 0) {
+            const double* tile_t = tile_t_[g.group].data();
+            const UpInterval* tile_values = tile_values_.data() + tiles_at[g.group];
             const int before = pieces_of(s, piece_width(s));
             int k = 0;
-            while (k < tiles && tile_t_[k + 1] <= s.tmin) ++k;  // the piece holding s.tmin
-            for (; k < tiles && tile_t_[k] < s.tmax; ++k) {
+            while (k < tiles && tile_t[k + 1] <= s.tmin) ++k;  // the piece holding s.tmin
+            for (; k < tiles && tile_t[k] < s.tmax; ++k) {
                 ++res.evals.interval;
-                const Proof pr = proof(tile_values_[k]);
+                const Proof pr = proof(tile_values[k]);
                 if (pr == Proof::Excluded) continue;
-                const double p = tile_t_[k], q = tile_t_[k + 1];
+                const double p = tile_t[k], q = tile_t[k + 1];
                 const bool next = k + 1 < tiles && s.tmax >= q;  // the ray reaches piece k + 1
                 // Its own lambda: calling the `hit` of the decisions below instead, hoisted here,
                 // made the colonnade's heightmap 10% slower (measured; code generation).
@@ -1860,29 +1951,39 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
                     res.t_lo = lo;
                     res.t_hi = hi;
                     res.t = 0.5 * lo + 0.5 * hi;
-                    ++decided;
+                    ++decided[g.group];
                 };
                 if (solid_ && pr == Proof::Inside) {
                     hit(std::max(p, s.tmin), std::max(p, s.tmin));
-                } else if (solid_ && next && proof(tile_values_[k + 1]) == Proof::Inside) {
+                } else if (solid_ && next && proof(tile_values[k + 1]) == Proof::Inside) {
                     hit(std::max(p, s.tmin), q);
-                } else if (!solid_ && next && k > 0 && s.tmin <= p && tile_values_[k].defined &&
-                           strict_sign(tile_values_[k - 1]) * strict_sign(tile_values_[k + 1]) ==
+                } else if (!solid_ && next && k > 0 && s.tmin <= p && tile_values[k].defined &&
+                           strict_sign(tile_values[k - 1]) * strict_sign(tile_values[k + 1]) ==
                                -1) {
                     hit(p, q);  // g(p) and g(q) of strict opposite signs, g continuous between
                 }
                 s.tmin = std::max(s.tmin, p);  // free before its first piece not proven free
                 break;
             }
-            if (k == tiles || !(tile_t_[k] < s.tmax)) {
+            if (k == tiles || !(tile_t[k] < s.tmax)) {
                 s.tmin = s.tmax;  // every piece it meets proven free: Miss on [a, b]
             }
             const bool clear = res.status != Status::Miss || !(s.tmin < s.tmax);
-            cleared += clear;
-            saved += before - (clear ? 0 : pieces_of(s, piece_width(s)));
+            cleared[g.group] += clear;
+            saved[g.group] += before - (clear ? 0 : pieces_of(s, piece_width(s)));
         }
     }
-    stats.tile_decided += decided;
+    // A win: the tile pieces answered a ray, left none of a group's rays to scan (the pieces'
+    // walks and their points and forms spared), or spared four vectors' worth of pieces. A few
+    // pieces spared do not pay: a walk costs about the same for a few lanes fewer
+    // (docs/benchmarks.md, session 22).
+    bool tiles_won = false;
+    for (int g = 0; g < count; ++g) {
+        stats.tile_decided += decided[g];
+        tiles_won = tiles_won || (tiles_of[g] > 0 && (decided[g] > 0 || cleared[g] == rays_of[g] ||
+                                                      saved[g] >= 4 * kWalkLanes));
+    }
+    tile_trial_.wins += tiles_won;
     take_segment_forms(list, depth, level);
     // The pieces of every ray not decided yet, as scan() cuts them.
     for (Level::Scanned& z : level.scanned) {
@@ -1897,12 +1998,6 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         }
         z.end = pieces_.size();
     }
-    // A win: the tile pieces answered a ray, left none of the node's rays to scan (the pieces'
-    // walks and their points and forms spared), or spared four vectors' worth of pieces. A few
-    // pieces spared do not pay: a walk costs about the same for a few lanes fewer
-    // (docs/benchmarks.md, session 22).
-    tile_trial_.wins +=
-        tiles > 0 && (decided > 0 || cleared == segments_.size() || saved >= 4 * kWalkLanes);
     // Every piece's enclosure, in one batched evaluation.
     const std::size_t n = pieces_.size();
     if (lanes_.size() < n) lanes_.resize(n);
@@ -2200,7 +2295,7 @@ bool Walker::scan_together(const Rect& r, double a, double b, const Ssa& list,
         stats.together += z.res.status != Status::Unknown;
         settle(z.i, z.j, z.s, z.res, true, list, tape, level, depth);
     }
-    return true;
+    return taken;
 }
 
 void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
@@ -2791,6 +2886,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.segment_forms += s.segment_forms;
         total.monotone_segments += s.monotone_segments;
         total.newton_brackets += s.newton_brackets;
+        total.merged_scans += s.merged_scans;
         total.folds += s.folds;
         total.folded_instructions += s.folded_instructions;
         total.folded_scans += s.folded_scans;

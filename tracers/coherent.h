@@ -166,6 +166,11 @@ struct CoherentOptions {
     /// list's, bit for bit) where forms and middles fit in one vector, instead of a walk of the
     /// list of their own. The same answers, bit for bit. Off: two walks.
     bool middles_in_forms = true;
+    /// The quarters of a node that would each be scanned at once (scan_together) are scanned
+    /// together, each over its own [a, b], where their list has no choices and does not fold:
+    /// one walk per phase of the scan for all of them. The answers keep their meaning. Off: one
+    /// scan per quarter.
+    bool merged_scans = true;
     /// With the segment forms on a folded list (fold_lists), the segments' plain enclosures are
     /// walked first where they prove enough of the segments free (3 in 10 so far in the root
     /// tile), and only the other segments walk the tangent list and the list at their middles.
@@ -253,6 +258,8 @@ struct CoherentStats {
     /// of those: brackets that the Newton step from the segment's middle gave without an end
     /// point (newton_brackets)
     std::uint64_t newton_brackets = 0;
+    /// scans of the rays of two to four quarters of a node at once (merged_scans)
+    std::uint64_t merged_scans = 0;
     /// scans in lanes whose list was folded to the node's box (CoherentOptions::fold_lists), and
     /// the instructions that dropped from their lists in all
     std::uint64_t folds = 0;
