@@ -14,6 +14,7 @@
 #include <rapidcheck/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -512,6 +513,30 @@ TEST(Coherent, SegmentFormsKeepEveryAnswerAndSpareEvaluations) {
     EXPECT_GT(brackets, 0u);
 }
 
+/// Renders `tape` with `o`, the option `flag` off and then on, each checked against the per-ray
+/// solver (no wrong answer, none undecided), and checks that every pixel has the same status and
+/// consistent Hits either way. The stats off and on.
+std::array<CoherentStats, 2> expect_same_statuses_either_way(const expr::Tape& tape,
+                                                             CoherentOptions o,
+                                                             bool CoherentOptions::*flag,
+                                                             const std::string& where) {
+    std::vector<RayResult> answers[2];
+    std::array<CoherentStats, 2> stats;
+    for (int on : {0, 1}) {
+        o.*flag = on == 1;
+        const Agreement a = against_per_ray(tape, o, false, 1, &answers[on], &stats[on]);
+        EXPECT_EQ(a.wrong, 0u) << where << (on ? " on" : " off") << ": " << a.first_wrong;
+        EXPECT_EQ(a.undecided, 0u) << where << (on ? " on" : " off");
+    }
+    EXPECT_EQ(answers[0].size(), answers[1].size()) << where;
+    for (std::size_t k = 0; k < std::min(answers[0].size(), answers[1].size()); ++k) {
+        EXPECT_TRUE(agree(answers[0][k], answers[1][k]))
+            << where << " pixel " << k << ": " << describe(answers[0][k]) << " against "
+            << describe(answers[1][k]);
+    }
+    return stats;
+}
+
 TEST(Coherent, NewtonBracketsHoldTheRootOfMathematicsAndKeepTheAnswers) {
     // A monotone segment's zero bracketed by interval Newton steps (newton_brackets): every zero
     // lies in c − g(c)/G′, so a bracket narrowed to it still holds the root. The sphere as a
@@ -565,30 +590,14 @@ TEST(Coherent, NewtonBracketsHoldTheRootOfMathematicsAndKeepTheAnswers) {
     for (const char* name : {"chmutov6.vm", "barth_sextic.vm", "mitchell.vm"}) {
         const expr::Tape tape(expr::load_graph_file((kScenes / name).string()));
         for (Surface surface : {Surface::Zero, Surface::Solid}) {
-            std::vector<RayResult> answers[2];
-            CoherentStats stats[2];
-            for (int newton : {0, 1}) {
-                CoherentOptions o = small_view(Projection::Pinhole);
-                o.certified = image_solver_options();
-                o.depth_pixels = 0.5;
-                o.surface = surface;
-                o.newton_brackets = newton == 1;
-                const std::string where = std::string(name) +
-                                          (surface == Surface::Solid ? " solid" : " zero") +
-                                          (newton == 1 ? " newton" : " halving");
-                const Agreement a =
-                    against_per_ray(tape, o, false, 1, &answers[newton], &stats[newton]);
-                EXPECT_EQ(a.wrong, 0u) << where << ": " << a.first_wrong;
-                EXPECT_EQ(a.undecided, 0u) << where;
-            }
+            CoherentOptions o = small_view(Projection::Pinhole);
+            o.certified = image_solver_options();
+            o.depth_pixels = 0.5;
+            o.surface = surface;
             const std::string where =
                 std::string(name) + (surface == Surface::Solid ? " solid" : " zero");
-            ASSERT_EQ(answers[0].size(), answers[1].size());
-            for (std::size_t k = 0; k < answers[0].size(); ++k) {
-                EXPECT_TRUE(agree(answers[0][k], answers[1][k]))
-                    << where << " pixel " << k << ": " << describe(answers[0][k]) << " against "
-                    << describe(answers[1][k]);
-            }
+            const auto stats =
+                expect_same_statuses_either_way(tape, o, &CoherentOptions::newton_brackets, where);
             EXPECT_EQ(stats[0].newton_brackets, 0u) << where;
             stepped += stats[1].newton_brackets;
         }
@@ -606,30 +615,16 @@ TEST(Coherent, MergedScansKeepTheAnswers) {
         const expr::Tape tape(expr::load_graph_file((kScenes / name).string()));
         for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
             for (Surface surface : {Surface::Zero, Surface::Solid}) {
-                std::vector<RayResult> answers[2];
-                CoherentStats stats[2];
+                CoherentOptions o = small_view(p);
+                o.render.width = o.render.height = 96;
+                o.certified = image_solver_options();
+                o.depth_pixels = 0.5;
+                o.surface = surface;
                 const std::string where = std::string(name) +
                                           (p == Projection::Pinhole ? " pinhole" : " ortho") +
                                           (surface == Surface::Solid ? " solid" : " zero");
-                for (int on : {0, 1}) {
-                    CoherentOptions o = small_view(p);
-                    o.render.width = o.render.height = 96;
-                    o.certified = image_solver_options();
-                    o.depth_pixels = 0.5;
-                    o.surface = surface;
-                    o.merged_scans = on == 1;
-                    const Agreement a =
-                        against_per_ray(tape, o, false, 1, &answers[on], &stats[on]);
-                    EXPECT_EQ(a.wrong, 0u)
-                        << where << (on ? " merged" : "") << ": " << a.first_wrong;
-                    EXPECT_EQ(a.undecided, 0u) << where;
-                }
-                ASSERT_EQ(answers[0].size(), answers[1].size());
-                for (std::size_t k = 0; k < answers[0].size(); ++k) {
-                    EXPECT_TRUE(agree(answers[0][k], answers[1][k]))
-                        << where << " pixel " << k << ": " << describe(answers[0][k]) << " against "
-                        << describe(answers[1][k]);
-                }
+                const auto stats =
+                    expect_same_statuses_either_way(tape, o, &CoherentOptions::merged_scans, where);
                 EXPECT_EQ(stats[0].merged_scans, 0u) << where;
                 merged += stats[1].merged_scans;
             }
