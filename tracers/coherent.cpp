@@ -78,6 +78,28 @@ struct PayingTrial {
     bool paying() const { return tries < First || Share * wins >= tries; }
 };
 
+/// The tangent list of a smooth tangent list `tl` (expr/tangent.h applied twice): run over a
+/// segment's box with both lists' seeds holding the ray's direction d, its slots tl.value and
+/// tl.derivative hold g and g′ and its `derivative` slot g″, for g(t) = f(o + t·d). tl's list
+/// gets two negations that copy its derivative into its last slot (the second list differentiates
+/// the last one). None where tl is absent or has kinks.
+std::optional<expr::TangentList> second_order_list(const std::optional<expr::TangentList>& tl) {
+    if (!tl || !tl->smooth) return std::nullopt;
+    std::vector<expr::Instr> list = tl->list;
+    const std::uint32_t neg = tl->slots, copy = tl->slots + 1;
+    expr::Instr n{};
+    n.op = expr::Op::Neg;
+    n.a = tl->derivative;
+    n.out = neg;
+    list.push_back(n);
+    n.a = neg;
+    n.out = copy;
+    list.push_back(n);
+    auto second = expr::tangent_list(list);
+    if (second && !second->smooth) return std::nullopt;
+    return second;
+}
+
 /// The pixels [i0, i0 + w) × [j0, j0 + h) of the image.
 struct Rect {
     unsigned i0, j0, w, h;
@@ -235,6 +257,8 @@ class Walker {
           t_splits_(rays.projection() != Projection::Ortho || tape.uses_var(2)),
           levels_(kMaxDepth),
           tape_tangent_(expr::tangent_list(tape.ssa())),
+          tape_second_(options.second_order_forms ? second_order_list(tape_tangent_)
+                                                  : std::nullopt),
           float_lanes_(options.float_lanes && mostly_arithmetic(tape.ssa())) {
         if (rays.projection() != Projection::List && options.render.aov != Aov::Depth &&
             options.depth_pixels > 0) {
@@ -766,6 +790,25 @@ class Walker {
     std::vector<std::size_t> form_of_;
     /// The tangent list of the tape's own list (expr/tangent.h), or none.
     const std::optional<expr::TangentList> tape_tangent_;
+    /// The second-order list of the tape's own (second_order_list), or none.
+    const std::optional<expr::TangentList> tape_second_;
+    /// take_segment_forms()'s segments left to the second-order form (try_second_order()): the
+    /// ray (in level.scanned) and, per segment, its lanes' results.
+    std::vector<std::size_t> second_rays_;
+    std::vector<LaneBox> second_boxes_;
+    std::vector<std::array<double, 3>> second_dirs_;
+    std::vector<UpInterval> second_g_, second_g1_, second_g2_;
+    /// This root tile's second-order forms (a win: they prove every segment tried free, so that
+    /// none of them needs its pieces): the first 8 scans, then while one in four wins, else one
+    /// in 16.
+    PayingTrial<8, 16> second_trial_;
+    /// Walks the second-order list over boxes[0, n) with the directions dirs[0, n): g, g′ and g″
+    /// into g, g1 and g2.
+    template <class L>
+    void eval_second_lanes_in(LaneFile<L>& file, const LaneBox* boxes,
+                              const std::array<double, 3>* dirs, std::size_t n);
+    /// The second-order form on the segments in second_rays_ (see take_segment_forms()).
+    void try_second_order(const Ssa& list, Level& level);
     /// The walks in lanes in binary32 bounds (CoherentOptions::float_lanes).
     const bool float_lanes_;
     struct Piece {
@@ -1021,6 +1064,7 @@ bool Walker::tile(const Rect& r) {
     wide_forms_.reset();
     tile_trial_.reset();
     kink_forms_.reset();
+    second_trial_.reset();
     plain_tried_ = plain_free_ = 0;
     fold_trial_.reset();
     root_box_.reset();
@@ -2321,6 +2365,7 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
     dirs_.clear();
     form_of_.clear();
     monotone_.clear();
+    second_rays_.clear();
     for (std::size_t ray = 0; ray < level.scanned.size(); ++ray) {
         const Level::Scanned& z = level.scanned[ray];
         // A form costs two lanes (one of the tangent list, one of the list) in walks that run
@@ -2420,11 +2465,108 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
                 } else {
                     z.s.tmin = lo;
                     z.s.tmax = hi;
+                    second_rays_.push_back(form_of_[l]);
                 }
             }
         }
+        try_second_order(list, level);
         decide_monotone(list, level);
     }
+}
+
+template <class L>
+void Walker::eval_second_lanes_in(LaneFile<L>& file, const LaneBox* boxes,
+                                  const std::array<double, 3>* dirs, std::size_t n) {
+    const expr::TangentList& first = *tape_tangent_;
+    const expr::TangentList& second = *tape_second_;
+    if (file.regs.size() < second.slots) file.regs.resize(second.slots);
+    second_g_.resize(n);
+    second_g1_.resize(n);
+    second_g2_.resize(n);
+    for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
+        const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
+        load_lanes(file, boxes + k0, m);
+        // Both lists' seeds: each lane's direction (a point, defined), rounded outward.
+        const std::uint64_t lanes = m == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << m) - 1;
+        for (const expr::TangentList* tl : {&first, &second}) {
+            for (int c = 0; c < 3; ++c) {
+                L& seed = file.regs[tl->seed[c]];
+                for (int k = 0; k < m; ++k) {
+                    const double d = dirs[k0 + k][c];
+                    expr::set_bounds_upward(seed, k, d, d);
+                }
+                seed.defined[0] |= lanes;
+            }
+        }
+        expr::run_interval_batch(second.list.data(), second.list.data() + second.list.size(),
+                                 file.in.data(), file.regs.data(), m);
+        for (int k = 0; k < m; ++k) {
+            second_g_[k0 + k] = expr::lane(file.regs[first.value], k);
+            second_g1_[k0 + k] = expr::lane(file.regs[first.derivative], k);
+            second_g2_[k0 + k] = expr::lane(file.regs[second.derivative], k);
+        }
+    }
+}
+
+void Walker::try_second_order(const Ssa& list, Level& level) {
+    // Segments whose form neither proved them free nor found g monotone (G′ holds 0: the ray
+    // runs beside the surface, or through it) get the second-order form of g(t) = f(o + t·d)
+    // about the middle c of S = [a, b]: g(t) ∈ g(c) + g′(c)·(t − c) + ½·G″·(t − c)² (Taylor's
+    // theorem with Lagrange's remainder; g is C² where the smooth list is defined, G″ ⊇ g″ over
+    // S finite). Its error is quadratic in the width and g′(c) is a point's, so where G′ over S
+    // is wide (the dependency of a polynomial's interval evaluation) but g stays away from 0 — a
+    // ray that passes near the surface without meeting it — it proves S free where the
+    // first-order form needed pieces. Where G″ keeps one strict sign, the model's extreme over
+    // all t and every curvature k in G″ is g(c) − g′(c)²/(2·k) at the bound of G″ nearest 0, on
+    // the side G″ points away from: the form is that tight wherever the ray's closest approach
+    // lies in S. One walk of the second-order list, two lanes a segment (its box: G″; its
+    // middle: g(c) and g′(c)).
+    if (second_rays_.empty() || !tape_second_ || &list != &tape_.ssa() ||
+        !level.folded.list.empty() || !second_trial_.attempt()) {
+        return;
+    }
+    const std::size_t n = second_rays_.size();
+    second_boxes_.clear();
+    second_dirs_.clear();
+    for (const std::size_t ray : second_rays_) {
+        const Level::Scanned& z = level.scanned[ray];
+        const Ray& full = px(z.i, z.j).ray;
+        const double tc = midpoint(UpInterval(z.s.tmin, z.s.tmax));
+        second_boxes_.push_back(lane_box(full, z.s.tmin, z.s.tmax));
+        second_boxes_.push_back(lane_box(full, tc, tc));
+        second_dirs_.push_back(full.d);
+        second_dirs_.push_back(full.d);
+    }
+    if (float_lanes_) {
+        eval_second_lanes_in(f32_, second_boxes_.data(), second_dirs_.data(), 2 * n);
+    } else {
+        eval_second_lanes_in(d64_, second_boxes_.data(), second_dirs_.data(), 2 * n);
+    }
+    std::size_t proven = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+        Level::Scanned& z = level.scanned[second_rays_[k]];
+        z.res.evals.gradient += 1;
+        const UpInterval &e = second_g_[2 * k], &g1 = second_g1_[2 * k], &g2 = second_g2_[2 * k];
+        if (!e.defined || !g1.defined || !g2.defined || !finite(g1) || !finite(g2)) continue;
+        const UpInterval &v = second_g_[2 * k + 1], &d = second_g1_[2 * k + 1];
+        if (!v.defined || !finite(v) || !finite(d)) continue;
+        const double c = midpoint(UpInterval(z.s.tmin, z.s.tmax));
+        const UpInterval s = UpInterval(z.s.tmin, z.s.tmax) - UpInterval(c);
+        const UpInterval form = v + d * s + UpInterval(0.5) * g2 * square(s);
+        double lo = form.lower(), hi = form.upper();
+        if (g2.lower() > 0) {
+            lo = std::max(lo, (v - square(d) / (UpInterval(2.0) * UpInterval(g2.lower()))).lower());
+        } else if (g2.upper() < 0) {
+            hi = std::min(hi, (v - square(d) / (UpInterval(2.0) * UpInterval(g2.upper()))).upper());
+        }
+        if (!(lo <= hi)) continue;
+        if (proof(UpInterval(lo, hi)) == Proof::Excluded) {
+            ++proven;
+            ++stats.second_order;
+            prove_free(z);
+        }
+    }
+    second_trial_.wins += proven == n;
 }
 
 void Walker::decide_monotone(const Ssa& list, Level& level) {
@@ -2887,6 +3029,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.monotone_segments += s.monotone_segments;
         total.newton_brackets += s.newton_brackets;
         total.merged_scans += s.merged_scans;
+        total.second_order += s.second_order;
         total.folds += s.folds;
         total.folded_instructions += s.folded_instructions;
         total.folded_scans += s.folded_scans;

@@ -171,6 +171,13 @@ struct CoherentOptions {
     /// one walk per phase of the scan for all of them. The answers keep their meaning. Off: one
     /// scan per quarter.
     bool merged_scans = true;
+    /// A scanned segment that its first-order form leaves undecided and not monotone gets the
+    /// second-order form g(c) + g′(c)·(t − c) + ½·G″·(t − c)² (G″ ⊇ g″ over the segment from a
+    /// walk of the tangent list's own tangent list; c the model's minimiser), where the tape is
+    /// smooth and its own list is scanned, while it pays in the root tile: rays that pass near
+    /// the surface are proven free without their pieces. The answers keep their meaning. Off: the
+    /// pieces.
+    bool second_order_forms = true;
     /// With the segment forms on a folded list (fold_lists), the segments' plain enclosures are
     /// walked first where they prove enough of the segments free (3 in 10 so far in the root
     /// tile), and only the other segments walk the tangent list and the list at their middles.
@@ -260,6 +267,8 @@ struct CoherentStats {
     std::uint64_t newton_brackets = 0;
     /// scans of the rays of two to four quarters of a node at once (merged_scans)
     std::uint64_t merged_scans = 0;
+    /// segments proven free by their second-order form (second_order_forms)
+    std::uint64_t second_order = 0;
     /// scans in lanes whose list was folded to the node's box (CoherentOptions::fold_lists), and
     /// the instructions that dropped from their lists in all
     std::uint64_t folds = 0;
