@@ -2465,7 +2465,12 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
                 } else {
                     z.s.tmin = lo;
                     z.s.tmax = hi;
-                    second_rays_.push_back(form_of_[l]);
+                    // The second-order form can prove the segment free only where g at its
+                    // middle is proven away from 0 on the free side.
+                    const UpInterval& gc = quarter_points_[l];
+                    if (solid_ ? gc.lower() > 0 : strict_sign(gc) != 0) {
+                        second_rays_.push_back(form_of_[l]);
+                    }
                 }
             }
         }
