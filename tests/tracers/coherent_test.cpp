@@ -1267,6 +1267,10 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     o.clip_forms = *rc::gen::arbitrary<bool>();
     o.block_hulls = *rc::gen::arbitrary<bool>();
     o.float_lanes = *rc::gen::arbitrary<bool>();  // binary32 walks, where the list is arithmetic
+    o.newton_brackets = *rc::gen::arbitrary<bool>();
+    o.middles_in_forms = *rc::gen::arbitrary<bool>();
+    o.merged_scans = *rc::gen::arbitrary<bool>();
+    o.second_order_forms = *rc::gen::arbitrary<bool>();
     o.fold_lists = *rc::gen::element(0u, 4u, 16u, 128u);  // 4: folded wherever it drops enough
     o.folded_together_rays = *rc::gen::element(0u, 64u, 1024u);  // nodes of up to 1024 rays
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
@@ -1281,6 +1285,9 @@ RC_GTEST_PROP(Coherent, SmoothDagsScannedInLanesAgreeWithThePerRaySolver, ()) {
     RC_TAG(stats.segment_forms > 0 ? "segment forms proved segments" : "no segment form");
     RC_TAG(stats.monotone_segments > 0 ? "zeros bracketed on monotone segments"
                                        : "no monotone bracket");
+    RC_TAG(stats.newton_brackets > 0 ? "brackets from Newton steps" : "no Newton bracket");
+    RC_TAG(stats.merged_scans > 0 ? "quarters scanned together" : "no merged scan");
+    RC_TAG(stats.second_order > 0 ? "second-order forms proved segments" : "no second-order form");
     RC_TAG(stats.folds > 0 ? "lists folded" : "no fold");
     RC_TAG(stats.folded_scans > 0 ? "wide scans on folded lists" : "no wide scan");
 }
@@ -1316,6 +1323,9 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     o.children_in_lanes = *rc::gen::arbitrary<bool>();
     o.clip_forms = *rc::gen::arbitrary<bool>();
     o.block_hulls = *rc::gen::arbitrary<bool>();
+    o.newton_brackets = *rc::gen::arbitrary<bool>();
+    o.merged_scans = *rc::gen::arbitrary<bool>();
+    o.second_order_forms = *rc::gen::arbitrary<bool>();
     o.fold_lists = *rc::gen::element(0u, 4u, 16u, 128u);
     o.folded_together_rays = *rc::gen::element(0u, 64u, 1024u);
     o.surface = *rc::gen::element(Surface::Zero, Surface::Solid);
