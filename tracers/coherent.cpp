@@ -2716,10 +2716,15 @@ void Walker::decide_monotone(const Ssa& list, Level& level) {
             } else if (sm == -mo.sign) {
                 mo.hi = mid;
             }
-            const double width = mo.hi - mo.lo;
+            const double width = mo.hi - mo.lo, lo = mo.lo;
             narrow(mo, step(mo, mid, quarter_points_[k]));
             // A side not proven and a step that leaves more than half: its pieces from lo
-            // (free before it).
+            // (free before it). (A step that misses the bracket cannot be, as the bracket holds a
+            // zero; were it to, the pieces from lo would answer.)
+            if (!(mo.lo <= mo.hi)) {
+                z.s.tmin = lo;
+                continue;
+            }
             if (sm == 0 && !(mo.hi - mo.lo <= 0.5 * width)) {
                 z.s.tmin = mo.lo;
                 continue;
