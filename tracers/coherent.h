@@ -157,26 +157,26 @@ struct CoherentOptions {
     /// pieces.
     bool monotone_segments = true;
     /// With the monotone segments, every value of g at a point c also narrows a bracket to the
-    /// interval Newton step c − g(c)/G′ (which holds every zero of g on the segment), and the
-    /// first point is taken a quarter piece past the step from the middle instead of at the
-    /// segment's end. The answers keep their meaning; their brackets are narrower. Off: halving
-    /// alone.
+    /// interval Newton step c − g(c)/G′ (which holds every zero of g on the segment), and a step
+    /// from the segment's middle whose far end lies inside the segment brackets the zero without
+    /// a point at the segment's end (g has crossed 0 by then). The answers keep their meaning;
+    /// their brackets are narrower. Off: halving alone.
     bool newton_brackets = true;
     /// The segment forms' middles as lanes of the tangent list's walk (whose value lanes are the
     /// list's, bit for bit) where forms and middles fit in one vector, instead of a walk of the
     /// list of their own. The same answers, bit for bit. Off: two walks.
     bool middles_in_forms = true;
     /// The quarters of a node that would each be scanned at once (scan_together) are scanned
-    /// together, each over its own [a, b], where their list has no choices and does not fold:
-    /// one walk per phase of the scan for all of them. The answers keep their meaning. Off: one
-    /// scan per quarter.
+    /// together, each over its own [a, b], where their list has no choices and does not fold and
+    /// the root tile's tile pieces do not pay: one walk per phase of the scan for all of them.
+    /// The answers keep their meaning. Off: one scan per quarter.
     bool merged_scans = true;
-    /// A scanned segment that its first-order form leaves undecided and not monotone gets the
-    /// second-order form g(c) + g′(c)·(t − c) + ½·G″·(t − c)² (G″ ⊇ g″ over the segment from a
-    /// walk of the tangent list's own tangent list; c the model's minimiser), where the tape is
-    /// smooth and its own list is scanned, while it pays in the root tile: rays that pass near
-    /// the surface are proven free without their pieces. The answers keep their meaning. Off: the
-    /// pieces.
+    /// A scanned segment that its first-order form leaves undecided and not monotone, and at
+    /// whose middle c g is proven away from 0 on the free side, gets the second-order form
+    /// g(c) + g′(c)·(t − c) + ½·G″·(t − c)² (G″ ⊇ g″ over the segment, from a walk of the tangent
+    /// list's own tangent list), where the tape is smooth and its own list is scanned, while it
+    /// pays in the root tile: rays that pass near the surface are proven free without their
+    /// pieces. The answers keep their meaning. Off: the pieces.
     bool second_order_forms = true;
     /// With the segment forms on a folded list (fold_lists), the segments' plain enclosures are
     /// walked first where they prove enough of the segments free (3 in 10 so far in the root
