@@ -1581,9 +1581,13 @@ UpInterval Walker::ray_form(const RayForm& f, double a, double b, const double* 
     if (!f.ok || m.is_empty() || !m.defined) return UpInterval::empty();
     const UpInterval t(a, b);
     UpInterval across(0.0);
+    // A coordinate that does not vary (a pinhole's origin, a heightmap's direction) adds
+    // G_k·[0, 0]: nothing, the term is passed.
     for (int k = 0; k < 3; ++k) {
-        m = m + f.g[k] * (UpInterval(olo[k], ohi[k]) - UpInterval(f.oc[k]));
-        across = across + f.g[k] * (UpInterval(dlo[k], dhi[k]) - UpInterval(f.dc[k]));
+        if (olo[k] != ohi[k]) m = m + f.g[k] * (UpInterval(olo[k], ohi[k]) - UpInterval(f.oc[k]));
+        if (dlo[k] != dhi[k]) {
+            across = across + f.g[k] * (UpInterval(dlo[k], dhi[k]) - UpInterval(f.dc[k]));
+        }
     }
     if (lin != nullptr) {
         // At a point t, t·G·(d − dc) lies in tc·across + (t − tc)·across: the line's terms.
