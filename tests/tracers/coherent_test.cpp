@@ -662,6 +662,48 @@ TEST(Coherent, SecondOrderFormsKeepTheAnswers) {
                                     }
                                 });
     EXPECT_GT(proven, 0u);
+
+    // Rays that come within a hair of a surface again and again: g(t) = T₆(z) + x + 1.5 along a
+    // heightmap's ray at (x, y) (T₆ = 32z⁶ − 48z⁴ + 18z² − 1, Chebyshev's, whose minima −1 lie at
+    // z = cos(π/6), 0, −cos(π/6)), over [−1.05, 1.05]³ at 96². A ray with x > −0.5 meets nothing
+    // (g ≥ x + 0.5 > 0) and passes three near-tangencies where x is close to −0.5; one with
+    // x < −0.5 enters first at z = cos(arccos(−(x + 1.5))/6), t = 1.05 − z. Every pixel has the
+    // status mathematics gives and every Hit holds its root, with the second-order forms
+    // proving grazing segments free.
+    const expr::Tape rims(expr::parse_expr("32*z^6 - 48*z^4 + 18*z^2 - 1 + x + 1.5"));
+    for (Surface surface : {Surface::Zero, Surface::Solid}) {
+        CoherentOptions o = small_view(Projection::Ortho);
+        o.render.width = o.render.height = 96;
+        o.render.bounds = {{{-1.05, 1.05}, {-1.05, 1.05}, {-1.05, 1.05}}};
+        o.certified = image_solver_options();
+        o.depth_pixels = 0.5;
+        o.surface = surface;
+        std::vector<RayResult> results;
+        CoherentStats stats;
+        render_3d_coherent(rims, o, &stats, &results);
+        const PixelRays rays(o);
+        const std::string where = surface == Surface::Solid ? "T6 rims, solid" : "T6 rims, zero";
+        unsigned misses = 0, hits = 0;
+        for (std::size_t k = 0; k < results.size(); ++k) {
+            Ray ray;
+            ASSERT_TRUE(
+                rays.ray(static_cast<unsigned>(k % 96), static_cast<unsigned>(k / 96), ray));
+            const double x = ray.o[0];
+            if (x > -0.5 + 1e-9) {
+                EXPECT_EQ(results[k].status, Status::Miss) << where << " pixel " << k;
+                ++misses;
+            } else if (x < -0.5 - 1e-9) {
+                ASSERT_EQ(results[k].status, Status::Hit) << where << " pixel " << k;
+                const double t = 1.05 - std::cos(std::acos(-(x + 1.5)) / 6);
+                EXPECT_LE(results[k].t_lo, t + 1e-9) << where << " pixel " << k;
+                EXPECT_GE(results[k].t_hi, t - 1e-9) << where << " pixel " << k;
+                ++hits;
+            }
+        }
+        EXPECT_GT(misses, 1000u) << where;
+        EXPECT_GT(hits, 1000u) << where;
+        EXPECT_GT(stats.second_order, 0u) << where;
+    }
 }
 
 TEST(Coherent, LinesOfTheFormsClipSegmentsAndKeepTheAnswers) {
