@@ -408,11 +408,11 @@ class Walker {
     struct ScanGroup {
         Rect r;
         double a, b;
-        const Hull* hull;  ///< its open rays' hull (their tile pieces, and the fold of one group)
+        const Hull* hull;  ///< its open rays' hull (the tile pieces and fold of one group)
     };
     /// scan_together() for the open rays of up to four nodes of one list at once, each over its
-    /// own [a, b] (their rays disjoint), each with its own tile pieces: the groups whose segments
-    /// are all short enough, as a bit mask (none evaluated otherwise). The list is folded only
+    /// own [a, b] (their rays disjoint): the groups whose segments are all short enough, as a
+    /// bit mask (none evaluated otherwise). The list is folded, and the tile pieces taken, only
     /// for one group.
     unsigned scan_groups(const ScanGroup* groups, int n, const Ssa& list, const expr::Tape* tape,
                          Level& level, unsigned depth, bool folded_only);
@@ -452,7 +452,8 @@ class Walker {
     void eval_tangent_lanes_in(LaneFile<L>& file, const expr::TangentList& tl, const LaneBox* boxes,
                                const std::array<double, 3>* dirs, std::size_t n,
                                std::vector<UpInterval>& values, std::vector<UpInterval>& slopes,
-                               const Level* fold);
+                               const Level* fold, const expr::TangentList* second,
+                               std::vector<UpInterval>* curvatures);
     /// A mean value form as a line in t: for every ray of a node and every point t of its [a, b],
     /// f(o + t·d) ∈ p + (t − tc)·q (ok: the form applies). mean_value() and ray_form() give it
     /// beside the form's enclosure, which is that of the same terms grouped otherwise.
@@ -527,10 +528,13 @@ class Walker {
     /// Enclosures of f and of its derivative along each lane's direction dirs[k] over the boxes
     /// boxes[0, n), by the tangent list `tl`, into values[0, n) and slopes[0, n).
     /// `fold`: `tl` is the tangent list of fold->folded's list (its fixed values are loaded).
+    /// `second` (second_order_list(tl)): its list is walked instead, and g″ along the directions
+    /// goes into curvatures[0, n) too.
     void eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxes,
                             const std::array<double, 3>* dirs, std::size_t n,
                             std::vector<UpInterval>& values, std::vector<UpInterval>& slopes,
-                            const Level* fold = nullptr);
+                            const Level* fold = nullptr, const expr::TangentList* second = nullptr,
+                            std::vector<UpInterval>* curvatures = nullptr);
     /// Solid: every open ray of r that meets [a, b] enters {f < 0} at its first parameter in
     /// [a, b] (the box there is proven inside, and g ≥ 0 is proven before): a Hit [t, t].
     void inside(const Rect& r, double a, double b, const Ssa& list);
@@ -804,11 +808,6 @@ class Walker {
     /// none of them needs its pieces): the first 8 scans, then while one in four wins, else one
     /// in 16.
     PayingTrial<8, 16> second_trial_;
-    /// Walks the second-order list over boxes[0, n) with the directions dirs[0, n): g, g′ and g″
-    /// into g, g1 and g2.
-    template <class L>
-    void eval_second_lanes_in(LaneFile<L>& file, const LaneBox* boxes,
-                              const std::array<double, 3>* dirs, std::size_t n);
     /// The second-order form on the segments in second_rays_ (see take_segment_forms()).
     void try_second_order(const Ssa& list, Level& level);
     /// The walks in lanes in binary32 bounds (CoherentOptions::float_lanes).
@@ -821,7 +820,6 @@ class Walker {
     struct Segment {
         unsigned i, j;
         double tmin, tmax;
-        int group;  ///< its ScanGroup
     };
     std::vector<Segment> segments_;
     /// scan_together()'s strictly monotone segments (CoherentOptions::monotone_segments): the
@@ -850,8 +848,7 @@ class Walker {
     /// [tile_t_[k], tile_t_[k + 1]]).
     std::vector<LaneBox> tile_boxes_;
     std::vector<UpInterval> tile_values_;
-    /// Per ScanGroup (scan_groups).
-    std::array<std::array<double, 2 * kMaxPieces + 1>, 4> tile_t_{};
+    std::array<double, 2 * kMaxPieces + 1> tile_t_{};
     std::vector<Piece> pieces_;
     std::vector<std::size_t> first_piece_, point_lane_;
     /// scan_together()'s rays waiting for the quarters of their piece (first_piece_): the piece
@@ -1088,18 +1085,18 @@ bool Walker::tile(const Rect& r) {
     // Counted here, in the tile's own arrays (a few KiB, in cache), in loops the compiler turns
     // into vectors: the pass over the image's arrays after the copy had taken 7% of Barth's 512²
     // heightmap.
-    std::size_t hits = 0, unknown = 0;
-    std::uint64_t most = 0;
-    for (std::size_t k = 0; k < n && !empty; ++k) {
-        hits += mine_.status[k] == Status::Hit;
-        unknown += mine_.status[k] == Status::Unknown;
-    }
-    for (std::size_t k = 0; k < n && !empty; ++k) most = std::max(most, mine_.evals[k]);
+    // (An empty tile's: n Misses of no evaluation.)
     tile_counts = RenderStats{};
-    tile_counts.hit = hits;
-    tile_counts.unknown = unknown;
-    tile_counts.miss = n - hits - unknown;
-    tile_counts.max_pixel_evals = most;
+    if (!empty) {
+        for (std::size_t k = 0; k < n; ++k) {
+            tile_counts.hit += mine_.status[k] == Status::Hit;
+            tile_counts.unknown += mine_.status[k] == Status::Unknown;
+        }
+        for (std::size_t k = 0; k < n; ++k) {
+            tile_counts.max_pixel_evals = std::max(tile_counts.max_pixel_evals, mine_.evals[k]);
+        }
+    }
+    tile_counts.miss = n - tile_counts.hit - tile_counts.unknown;
     for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
         const std::size_t from = std::size_t{j - r.j0} * r.w,
                           to = std::size_t{j} * ans_.width + r.i0;
@@ -1846,11 +1843,12 @@ expr::TangentKind Walker::tangent_kind(const Ssa& list, unsigned depth) {
 void Walker::eval_tangent_lanes(const expr::TangentList& tl, const LaneBox* boxes,
                                 const std::array<double, 3>* dirs, std::size_t n,
                                 std::vector<UpInterval>& values, std::vector<UpInterval>& slopes,
-                                const Level* fold) {
+                                const Level* fold, const expr::TangentList* second,
+                                std::vector<UpInterval>* curvatures) {
     if (float_lanes_) {
-        eval_tangent_lanes_in(f32_, tl, boxes, dirs, n, values, slopes, fold);
+        eval_tangent_lanes_in(f32_, tl, boxes, dirs, n, values, slopes, fold, second, curvatures);
     } else {
-        eval_tangent_lanes_in(d64_, tl, boxes, dirs, n, values, slopes, fold);
+        eval_tangent_lanes_in(d64_, tl, boxes, dirs, n, values, slopes, fold, second, curvatures);
     }
 }
 
@@ -1858,29 +1856,43 @@ template <class L>
 void Walker::eval_tangent_lanes_in(LaneFile<L>& file, const expr::TangentList& tl,
                                    const LaneBox* boxes, const std::array<double, 3>* dirs,
                                    std::size_t n, std::vector<UpInterval>& values,
-                                   std::vector<UpInterval>& slopes, const Level* fold) {
-    if (file.regs.size() < tl.slots) file.regs.resize(tl.slots);
+                                   std::vector<UpInterval>& slopes, const Level* fold,
+                                   const expr::TangentList* second,
+                                   std::vector<UpInterval>* curvatures) {
+    // With `second` (second_order_list(tl)), its list is walked: it keeps tl's slots (g and g′)
+    // and adds g″ in its derivative slot, into `curvatures`.
+    const std::vector<expr::Instr>& walked = second != nullptr ? second->list : tl.list;
+    const std::uint32_t slots = second != nullptr ? second->slots : tl.slots;
+    if (file.regs.size() < slots) file.regs.resize(slots);
     if (values.size() < n) values.resize(n);
     if (slopes.size() < n) slopes.resize(n);
+    if (curvatures != nullptr && curvatures->size() < n) curvatures->resize(n);
     for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
         const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
         load_lanes(file, boxes + k0, m);
         if (fold != nullptr) load_fixed(file, *fold, m);  // none where the level has no folded list
-        // The seeds: each lane's direction, a point (defined), rounded outward.
+        // The seeds (both lists' with `second`): each lane's direction, a point (defined),
+        // rounded outward.
         const std::uint64_t lanes = m == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << m) - 1;
-        for (int c = 0; c < 3; ++c) {
-            L& seed = file.regs[tl.seed[c]];
-            for (int k = 0; k < m; ++k) {
-                const double d = dirs[k0 + k][c];
-                expr::set_bounds_upward(seed, k, d, d);
+        for (const expr::TangentList* list : {&tl, second}) {
+            if (list == nullptr) continue;
+            for (int c = 0; c < 3; ++c) {
+                L& seed = file.regs[list->seed[c]];
+                for (int k = 0; k < m; ++k) {
+                    const double d = dirs[k0 + k][c];
+                    expr::set_bounds_upward(seed, k, d, d);
+                }
+                seed.defined[0] |= lanes;
             }
-            seed.defined[0] |= lanes;
         }
-        expr::run_interval_batch(tl.list.data(), tl.list.data() + tl.list.size(), file.in.data(),
+        expr::run_interval_batch(walked.data(), walked.data() + walked.size(), file.in.data(),
                                  file.regs.data(), m);
         for (int k = 0; k < m; ++k) {
             values[k0 + k] = expr::lane(file.regs[tl.value], k);
             slopes[k0 + k] = expr::lane(file.regs[tl.derivative], k);
+            if (curvatures != nullptr) {
+                (*curvatures)[k0 + k] = expr::lane(file.regs[second->derivative], k);
+            }
         }
     }
 }
@@ -1900,7 +1912,7 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
     const DeferNormals defer(*this, list);
     // The rays' segments; none of a group scanned if one of its segments is too long.
     segments_.clear();
-    double w_tile[4];  // per group: the narrowest piece width
+    double w_tile = kInf;  // the narrowest piece width (tile pieces: one group)
     unsigned taken = 0;
     for (int g = 0; g < count; ++g) {
         const Rect& r = groups[g].r;
@@ -1921,14 +1933,14 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
                     break;
                 }
                 w_group = std::min(w_group, w);
-                segments_.push_back({i, j, s.tmin, s.tmax, g});
+                segments_.push_back({i, j, s.tmin, s.tmax});
             }
         }
         if (!short_enough) {
             segments_.resize(mark);
             continue;
         }
-        w_tile[g] = w_group;
+        w_tile = std::min(w_tile, w_group);
         taken |= 1u << g;
     }
     if (taken == 0) return 0;
@@ -1949,25 +1961,17 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
     // the ray enters {f < 0} in its piece, Hit [p, q]; or at p if the piece itself is inside) or
     // when the pieces either side have strict opposite signs (zero set, f defined and continuous
     // on the piece: Hit [p, q]). Otherwise the ray is scanned alone from that piece on.
-    // Each group's own tile pieces (its hull's), all groups' in one batched evaluation; the
-    // root tile's trial asked once for the scan.
-    int tiles_of[4] = {0, 0, 0, 0};
-    std::size_t tiles_at[4] = {0, 0, 0, 0};  // a group's first lane
-    tile_boxes_.clear();
-    const auto tiled = [&](int g) { return (taken >> g & 1u) && groups[g].hull->count >= 2; };
-    bool try_tiles = false;
-    for (int g = 0; g < count; ++g) try_tiles = try_tiles || tiled(g);
-    try_tiles = try_tiles && count == 1 && options_.tile_pieces && tile_trial_.attempt();
-    for (int g = 0; g < count && try_tiles; ++g) {
-        const Hull& hull = *groups[g].hull;
-        if (!tiled(g)) continue;
-        const Ray span{{}, {}, groups[g].a, groups[g].b};
-        int& tiles = tiles_of[g];
-        tiles = pieces_of(span, w_tile[g]);
+    // One node's only (several share no hull; they are scanned together only while the tile
+    // pieces do not pay, split_screen()).
+    int tiles = 0;
+    if (count == 1 && options_.tile_pieces && groups[0].hull->count >= 2 && tile_trial_.attempt()) {
+        const Hull& hull = *groups[0].hull;
+        const Ray span{{}, {}, groups[0].a, groups[0].b};
+        tiles = pieces_of(span, w_tile);
         if (tiles > 2 * kMaxPieces) tiles = 0;
-        tiles_at[g] = tile_boxes_.size();
+        tile_boxes_.clear();
         for (int k = 0; k < tiles; ++k) {
-            const auto [lo, hi] = piece(span, w_tile[g], k, tiles);
+            const auto [lo, hi] = piece(span, w_tile, k, tiles);
             const auto box = segment_box(hull.olo, hull.ohi, hull.dlo, hull.dhi, lo, hi);
             LaneBox lb;
             for (int c = 0; c < 3; ++c) {
@@ -1975,39 +1979,35 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
                 lb.hi[c] = box[c].upper();
             }
             tile_boxes_.push_back(lb);
-            tile_t_[g][k] = lo;
-            tile_t_[g][k + 1] = hi;
+            tile_t_[k] = lo;
+            tile_t_[k + 1] = hi;
         }
-    }
-    if (!tile_boxes_.empty()) {
-        eval_lanes(list, tile_boxes_.data(), tile_boxes_.size(), tile_values_, &level);
-        stats.tile_pieces += tile_boxes_.size();
-        evals.interval += tile_boxes_.size();
+        if (tiles > 0) {
+            eval_lanes(list, tile_boxes_.data(), tiles, tile_values_, &level);
+            stats.tile_pieces += tiles;
+            evals.interval += tiles;
+        }
     }
 
     // Each ray's segment after the tile pieces.
     pieces_.clear();
     level.scanned.clear();
-    // Per group: rays the tile pieces answered, rays they answered or proved free on [a, b],
-    // pieces of the rays' own that they made unnecessary, and its rays.
-    std::size_t decided[4] = {0, 0, 0, 0}, cleared[4] = {0, 0, 0, 0}, rays_of[4] = {0, 0, 0, 0};
-    int saved[4] = {0, 0, 0, 0};
+    std::size_t decided = 0;  // rays the tile pieces answered
+    std::size_t cleared = 0;  // rays the tile pieces answered or proved free on [a, b]
+    int saved = 0;            // pieces of the rays' own that the tile pieces made unnecessary
     for (const Segment& g : segments_) {
         Level::Scanned& z = level.scanned.emplace_back(g.i, g.j, px(g.i, g.j).ray, g.tmin, g.tmax);
         Ray& s = z.s;
         RayResult& res = z.res;
-        ++rays_of[g.group];
-        if (const int tiles = tiles_of[g.group]; tiles > 0) {
-            const double* tile_t = tile_t_[g.group].data();
-            const UpInterval* tile_values = tile_values_.data() + tiles_at[g.group];
+        if (tiles > 0) {
             const int before = pieces_of(s, piece_width(s));
             int k = 0;
-            while (k < tiles && tile_t[k + 1] <= s.tmin) ++k;  // the piece holding s.tmin
-            for (; k < tiles && tile_t[k] < s.tmax; ++k) {
+            while (k < tiles && tile_t_[k + 1] <= s.tmin) ++k;  // the piece holding s.tmin
+            for (; k < tiles && tile_t_[k] < s.tmax; ++k) {
                 ++res.evals.interval;
-                const Proof pr = proof(tile_values[k]);
+                const Proof pr = proof(tile_values_[k]);
                 if (pr == Proof::Excluded) continue;
-                const double p = tile_t[k], q = tile_t[k + 1];
+                const double p = tile_t_[k], q = tile_t_[k + 1];
                 const bool next = k + 1 < tiles && s.tmax >= q;  // the ray reaches piece k + 1
                 // Its own lambda: calling the `hit` of the decisions below instead, hoisted here,
                 // made the colonnade's heightmap 10% slower (measured; code generation).
@@ -2016,39 +2016,35 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
                     res.t_lo = lo;
                     res.t_hi = hi;
                     res.t = 0.5 * lo + 0.5 * hi;
-                    ++decided[g.group];
+                    ++decided;
                 };
                 if (solid_ && pr == Proof::Inside) {
                     hit(std::max(p, s.tmin), std::max(p, s.tmin));
-                } else if (solid_ && next && proof(tile_values[k + 1]) == Proof::Inside) {
+                } else if (solid_ && next && proof(tile_values_[k + 1]) == Proof::Inside) {
                     hit(std::max(p, s.tmin), q);
-                } else if (!solid_ && next && k > 0 && s.tmin <= p && tile_values[k].defined &&
-                           strict_sign(tile_values[k - 1]) * strict_sign(tile_values[k + 1]) ==
+                } else if (!solid_ && next && k > 0 && s.tmin <= p && tile_values_[k].defined &&
+                           strict_sign(tile_values_[k - 1]) * strict_sign(tile_values_[k + 1]) ==
                                -1) {
                     hit(p, q);  // g(p) and g(q) of strict opposite signs, g continuous between
                 }
                 s.tmin = std::max(s.tmin, p);  // free before its first piece not proven free
                 break;
             }
-            if (k == tiles || !(tile_t[k] < s.tmax)) {
+            if (k == tiles || !(tile_t_[k] < s.tmax)) {
                 s.tmin = s.tmax;  // every piece it meets proven free: Miss on [a, b]
             }
             const bool clear = res.status != Status::Miss || !(s.tmin < s.tmax);
-            cleared[g.group] += clear;
-            saved[g.group] += before - (clear ? 0 : pieces_of(s, piece_width(s)));
+            cleared += clear;
+            saved += before - (clear ? 0 : pieces_of(s, piece_width(s)));
         }
     }
-    // A win: the tile pieces answered a ray, left none of a group's rays to scan (the pieces'
+    stats.tile_decided += decided;
+    // A win: the tile pieces answered a ray, left none of the node's rays to scan (the pieces'
     // walks and their points and forms spared), or spared four vectors' worth of pieces. A few
     // pieces spared do not pay: a walk costs about the same for a few lanes fewer
     // (docs/benchmarks.md, session 22).
-    bool tiles_won = false;
-    for (int g = 0; g < count; ++g) {
-        stats.tile_decided += decided[g];
-        tiles_won = tiles_won || (tiles_of[g] > 0 && (decided[g] > 0 || cleared[g] == rays_of[g] ||
-                                                      saved[g] >= 4 * kWalkLanes));
-    }
-    tile_trial_.wins += tiles_won;
+    tile_trial_.wins +=
+        tiles > 0 && (decided > 0 || cleared == segments_.size() || saved >= 4 * kWalkLanes);
     take_segment_forms(list, depth, level);
     // The pieces of every ray not decided yet, as scan() cuts them.
     for (Level::Scanned& z : level.scanned) {
@@ -2500,40 +2496,6 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
     }
 }
 
-template <class L>
-void Walker::eval_second_lanes_in(LaneFile<L>& file, const LaneBox* boxes,
-                                  const std::array<double, 3>* dirs, std::size_t n) {
-    const expr::TangentList& first = *tape_tangent_;
-    const expr::TangentList& second = *tape_second_;
-    if (file.regs.size() < second.slots) file.regs.resize(second.slots);
-    second_g_.resize(n);
-    second_g1_.resize(n);
-    second_g2_.resize(n);
-    for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
-        const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
-        load_lanes(file, boxes + k0, m);
-        // Both lists' seeds: each lane's direction (a point, defined), rounded outward.
-        const std::uint64_t lanes = m == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << m) - 1;
-        for (const expr::TangentList* tl : {&first, &second}) {
-            for (int c = 0; c < 3; ++c) {
-                L& seed = file.regs[tl->seed[c]];
-                for (int k = 0; k < m; ++k) {
-                    const double d = dirs[k0 + k][c];
-                    expr::set_bounds_upward(seed, k, d, d);
-                }
-                seed.defined[0] |= lanes;
-            }
-        }
-        expr::run_interval_batch(second.list.data(), second.list.data() + second.list.size(),
-                                 file.in.data(), file.regs.data(), m);
-        for (int k = 0; k < m; ++k) {
-            second_g_[k0 + k] = expr::lane(file.regs[first.value], k);
-            second_g1_[k0 + k] = expr::lane(file.regs[first.derivative], k);
-            second_g2_[k0 + k] = expr::lane(file.regs[second.derivative], k);
-        }
-    }
-}
-
 void Walker::try_second_order(const Ssa& list, Level& level) {
     // Segments whose form neither proved them free nor found g monotone (G′ holds 0: the ray
     // runs beside the surface, or through it) get the second-order form of g(t) = f(o + t·d)
@@ -2563,11 +2525,8 @@ void Walker::try_second_order(const Ssa& list, Level& level) {
         second_dirs_.push_back(full.d);
         second_dirs_.push_back(full.d);
     }
-    if (float_lanes_) {
-        eval_second_lanes_in(f32_, second_boxes_.data(), second_dirs_.data(), 2 * n);
-    } else {
-        eval_second_lanes_in(d64_, second_boxes_.data(), second_dirs_.data(), 2 * n);
-    }
+    eval_tangent_lanes(*tape_tangent_, second_boxes_.data(), second_dirs_.data(), 2 * n, second_g_,
+                       second_g1_, nullptr, &*tape_second_, &second_g2_);
     std::size_t proven = 0;
     for (std::size_t k = 0; k < n; ++k) {
         Level::Scanned& z = level.scanned[second_rays_[k]];
@@ -2984,14 +2943,13 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
     const AovScale scale = colour_tiles ? aov_scale(ans, aov, options.render.light) : AovScale{};
     if (colour_tiles)
         result.image = RgbImage(ans.width, ans.height, boost::container::default_init);
-    // The tile's pixels counted (by the walker, `counted`) and coloured once the walk has
-    // answered them.
-    // A tile answered without its rays (every pixel a Miss with no evaluation, so each row's
-    // colour is its first pixel's): counted at once, its rows filled with that colour.
+    // The tile's pixels counted (by the walker: `counted`) and coloured once the walk has
+    // answered them. A tile answered without its rays (every pixel a Miss with no evaluation, so
+    // each row's colour is its first pixel's): its rows filled with that colour.
     const auto finish = [&](const Rect& r, RenderStats& c, bool empty, const RenderStats& counted) {
+        c.count_pixels(counted);
+        if (!colour_tiles) return;
         if (empty) {
-            c.miss += std::size_t{r.w} * r.h;
-            if (!colour_tiles) return;
             for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
                 colorize_span(ans, aov, scale, j, r.i0, r.i0 + 1, result.image);
                 const std::uint8_t* first = result.image.at(r.i0, j);
@@ -3001,8 +2959,6 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
             }
             return;
         }
-        c.count_pixels(counted);
-        if (!colour_tiles) return;
         for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
             colorize_span(ans, aov, scale, j, r.i0, r.i0 + r.w, result.image);
         }
