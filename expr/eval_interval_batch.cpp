@@ -399,16 +399,21 @@ using Bound = std::remove_cvref_t<decltype(L::lo[0])>;
 
 /// Instruction `in` (op OP) on lanes 0 … n − 1 (rounded up to kWidth), kWidth lanes at a time;
 /// each block of lanes is read before it is written, so the output may be an operand's register.
-/// L: the registers, IntervalLanes (V of doubles) or IntervalLanesF (V of floats).
-template <class V, Op OP, class L>
-[[gnu::always_inline]] inline void vector_step(const Instr& in, L* r, int n) {
+/// L: the registers, IntervalLanes (V of doubles) or IntervalLanesF (V of floats). K > 0: n lies in
+/// ((K − 1)·kWidth, K·kWidth], the lanes of K vectors in one word of decorations, with `last` the
+/// live lanes of the last one (the loops' bounds known when compiled: a walk of one vector, the
+/// most frequent in the coherent renderer, costs 0.7 of one with the bounds counted at run time,
+/// docs/benchmarks.md, session 25); K = 0: any n.
+template <class V, Op OP, int K, class L>
+[[gnu::always_inline]] inline void vector_step(const Instr& in, L* r, int n, unsigned last) {
     constexpr int W = V::kWidth;
     constexpr unsigned kAll = (1u << W) - 1;
+    static_assert(K * W <= 64, "K vectors in one word of decorations");
     const L& a = r[in.a];
     const L& b = arity(OP) == 2 ? r[in.b] : a;
     L& o = r[in.out];
-    for (int w = 0; w * 64 < n; ++w) {
-        const int begin = w * 64, end = std::min(n, begin + 64);
+    for (int w = 0; K > 0 ? w == 0 : w * 64 < n; ++w) {
+        const int begin = w * 64, end = K > 0 ? K * W : std::min(n, begin + 64);
         const std::uint64_t operands = a.defined[w] & b.defined[w];  // read before o is written
         std::uint64_t def = 0, scalar_def = 0;
         for (int k = begin; k < end; k += W) {
@@ -426,7 +431,9 @@ template <class V, Op OP, class L>
             } else {
                 c = kernel<V, OP>(alo, ahi, blo, bhi);
             }
-            const unsigned live = end - k >= W ? kAll : (1u << (end - k)) - 1;
+            const unsigned live = K > 0          ? (k + W == end ? last : kAll)
+                                  : end - k >= W ? kAll
+                                                 : (1u << (end - k)) - 1;
             if (const unsigned slow = ~c.ok & live; slow != 0) [[unlikely]] {
                 alignas(64) Bound<L> lo[W], hi[W];
                 V::store(lo, c.lo);
@@ -686,13 +693,16 @@ template <class V>
 }
 
 /// The walk over vectors of V on registers L: IntervalLanes (V of doubles) or IntervalLanesF (V
-/// of floats; the ops without a vector kernel through via_double on the double walk `dwalk`).
-template <class V, class L = Lanes>
-inline void walk(const Instr* in, const Instr* const end, const L* p, L* r, int n,
-                 WalkFn dwalk = nullptr) {
+/// of floats; the ops without a vector kernel through via_double on the double walk `dwalk`), on
+/// K vectors (vector_step; 0: any n).
+template <class V, class L, int K>
+inline void walk_k(const Instr* in, const Instr* const end, const L* p, L* r, int n, WalkFn dwalk) {
     static_assert(kIntervalLanes % V::kWidth == 0);
     static_assert(kIntervalLanes <= 64, "one word of decorations per register");
     constexpr bool kF32 = std::is_same_v<L, LanesF>;
+    // The live lanes of the last vector (K > 0).
+    const int rest = n - (K > 0 ? K - 1 : 0) * V::kWidth;
+    const unsigned last = rest >= V::kWidth ? (1u << V::kWidth) - 1 : (1u << rest) - 1;
     for (; in != end; ++in) {
         switch (in->op) {
             case Op::Const:
@@ -704,9 +714,9 @@ inline void walk(const Instr* in, const Instr* const end, const L* p, L* r, int 
                 copy_step<V, L>(p[static_cast<int>(in->op) - static_cast<int>(Op::VarX)],
                                 r[in->out], n);
                 break;
-#define CERTRAY_VECTOR_CASE(OP)            \
-    case Op::OP:                           \
-        vector_step<V, Op::OP>(*in, r, n); \
+#define CERTRAY_VECTOR_CASE(OP)                     \
+    case Op::OP:                                    \
+        vector_step<V, Op::OP, K>(*in, r, n, last); \
         break;
                 CERTRAY_VECTOR_CASE(Neg)
                 CERTRAY_VECTOR_CASE(Abs)
@@ -755,6 +765,27 @@ inline void walk(const Instr* in, const Instr* const end, const L* p, L* r, int 
                 }
                 break;
         }
+    }
+}
+
+/// walk_k with the count of vectors known when compiled for one to four vectors (the walks of the
+/// coherent renderer's nodes, forms, scans and points), else counted at run time.
+template <class V, class L = Lanes>
+inline void walk(const Instr* in, const Instr* const end, const L* p, L* r, int n,
+                 WalkFn dwalk = nullptr) {
+    constexpr int W = V::kWidth;
+    static_assert(4 * W <= 64);
+    switch ((n + W - 1) / W) {
+        case 1:
+            return walk_k<V, L, 1>(in, end, p, r, n, dwalk);
+        case 2:
+            return walk_k<V, L, 2>(in, end, p, r, n, dwalk);
+        case 3:
+            return walk_k<V, L, 3>(in, end, p, r, n, dwalk);
+        case 4:
+            return walk_k<V, L, 4>(in, end, p, r, n, dwalk);
+        default:
+            return walk_k<V, L, 0>(in, end, p, r, n, dwalk);
     }
 }
 

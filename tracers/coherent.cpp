@@ -498,6 +498,8 @@ class Walker {
         ++evals.interval;
     }
     void ray_form_lanes(const expr::TangentList& tl, RayForm* forms, int n);
+    template <class L>
+    void ray_form_lanes_in(LaneFile<L>& file, const expr::TangentList& tl, RayForm* forms, int n);
     RayForm forms_[kMaxForms];              ///< split_screen()'s forms
     std::vector<UpInterval> split_values_;  ///< split_screen()'s enclosures
     /// level.folded for the scan in lanes of `sub` over `box`, from level.values: `sub` is the
@@ -1651,10 +1653,21 @@ void Walker::clip_to_line(const LinearForm& lin, double& a, double& b) const {
 }
 
 void Walker::ray_form_lanes(const expr::TangentList& tl, RayForm* forms, int n) {
+    if (float_lanes_) {
+        ray_form_lanes_in(f32_, tl, forms, n);
+    } else {
+        ray_form_lanes_in(d64_, tl, forms, n);
+    }
+}
+
+template <class L>
+void Walker::ray_form_lanes_in(LaneFile<L>& file, const expr::TangentList& tl, RayForm* forms,
+                               int n) {
     // Form k's lanes 5k … 5k + 3 walk its box x with the seeds e_x, e_y, e_z (the gradient's
     // components) and dc (∇f·dc directly, tighter than Σ G_k·dc_k); lane 5k + 4 its centre c
-    // with the seed 0 (the tangent list's value lanes are the list's, bit for bit).
-    LaneFile<expr::IntervalLanes>& file = d64_;
+    // with the seed 0 (the tangent list's value lanes are the list's, bit for bit). In binary32
+    // lanes the boxes and dc are rounded outward: every lane encloses what the double walk's
+    // does, and three forms fill one vector.
     constexpr int kLanes = 5;
     LaneBox boxes[kMaxForms * kLanes];
     const int lanes = n * kLanes;
@@ -1671,7 +1684,7 @@ void Walker::ray_form_lanes(const expr::TangentList& tl, RayForm* forms, int n) 
     load_lanes(file, boxes, lanes);
     if (file.regs.size() < tl.slots) file.regs.resize(tl.slots);
     for (int k = 0; k < 3; ++k) {
-        expr::IntervalLanes& seed = file.regs[tl.seed[k]];
+        L& seed = file.regs[tl.seed[k]];
         for (int f = 0; f < n; ++f) {
             for (int l = 0; l < 3; ++l) {
                 expr::set_lane(seed, f * kLanes + l, UpInterval(l == k ? 1.0 : 0.0));

@@ -206,11 +206,11 @@ struct CoherentOptions {
     /// it changed. Off: every node passes over its pixels.
     bool block_hulls = true;
     /// The scans' walks in lanes (pieces, points, tiles, quarters, segment enclosures and forms)
-    /// run in binary32 bounds (expr/eval_interval_batch.h: eight lanes per AVX2 instruction
-    /// instead of four), each bound rounded outward, so that every enclosure holds the real values
-    /// over a box that holds the scan's. The answers keep their meaning; the node boxes and their
-    /// mean value forms, the solver and the normals stay in double, and so do lists in which the
-    /// ops without a binary32 kernel (expr::binary32_kernel) are more than a sixth of the
+    /// and the nodes' mean value forms run in binary32 bounds (expr/eval_interval_batch.h: eight
+    /// lanes per AVX2 instruction instead of four), each bound rounded outward, so that every
+    /// enclosure holds the real values over a box that holds the scan's. The answers keep their
+    /// meaning; the node boxes, the solver and the normals stay in double, and so do lists in which
+    /// the ops without a binary32 kernel (expr::binary32_kernel) are more than a sixth of the
     /// instructions. Fidget's bear 0.76–0.82 of the time, the molecule 0.76, the gyroid 0.81
     /// (docs/benchmarks.md, sessions 19 and 20).
     /// Off: the double walk.
