@@ -65,6 +65,7 @@ tracers::RenderResult render(const Scene& scene, const RenderSettings& s) {
     ro.light = s.light;
     ro.threads = s.threads;
     ro.progress = s.progress;
+    ro.answers = s.answers;
     ro.camera = s.camera  ? *s.camera
                 : s.ortho ? tracers::Camera{}  // the heightmap has no camera to frame
                           : auto_frame(scene, ro.bounds, s.fov_degrees,

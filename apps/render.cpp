@@ -381,6 +381,8 @@ int run_render(const RenderCliOptions& o, std::ostream& out) {
     rs.height = size ? size->second : 480;
     rs.aov = aov;
     rs.threads = o.threads;
+    // The answers are read back for --data and the depth and steps AOVs' ranges only.
+    rs.answers = o.data.has_value() || aov == tracers::Aov::Depth || aov == tracers::Aov::Steps;
     tracers::WorkProgress work;
     rs.progress = &work;
     if (spec.light) rs.light = *spec.light;

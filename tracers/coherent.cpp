@@ -280,6 +280,8 @@ class Walker {
     /// Answers every pixel of the root tile r. True where every pixel is a Miss with no evaluation
     /// of its own, answered without building the rays (ortho_tile_free, PixelRays::misses).
     bool tile(const Rect& r);
+    /// The last root tile's answers (tile()), of its size: pixel (i, j) of the tile at (i, j).
+    const PixelAnswers& tile_answers() const { return mine_; }
     /// tile()'s walk over the rays of r.
     void walk_tile(const Rect& r);
 
@@ -728,13 +730,9 @@ class Walker {
     expr::PruneWorkspace prune_ws_;
     Rect root_{0, 0, 0, 0};
     std::vector<Px> px_;
-    /// The root tile's answers (tile()), by slot: status, hit t, evaluations and normal.
-    struct Mine {
-        std::vector<Status> status;
-        std::vector<double> t;
-        std::vector<std::uint64_t> evals;
-        std::vector<std::array<float, 3>> normal;
-    } mine_;
+    /// The root tile's answers (tile()), its pixel (i, j) at slot (j − j0)·w + (i − i0): status,
+    /// hit t, evaluations and normal; copied into the image's answers where they are kept.
+    PixelAnswers mine_;
     std::vector<Ray> row_rays_;  ///< tile()'s rays of a row, and which meet the bounds
     boost::container::vector<bool> row_in_;
     std::uint64_t answered_ = 0;  ///< rays answered so far (hulls taken before are stale)
@@ -1073,6 +1071,8 @@ bool Walker::tile(const Rect& r) {
     // KiB, in cache) and written into the image's arrays row by row at the end, one pass instead
     // of the defaults and then the answers.
     const std::size_t n = std::size_t{r.w} * r.h;
+    mine_.width = r.w;
+    mine_.height = r.h;
     mine_.status.assign(n, Status::Miss);
     mine_.t.assign(n, std::numeric_limits<double>::quiet_NaN());
     mine_.evals.assign(n, 0);
@@ -1099,6 +1099,7 @@ bool Walker::tile(const Rect& r) {
         }
     }
     tile_counts.miss = n - tile_counts.hit - tile_counts.unknown;
+    if (ans_.status.empty()) return empty;  // the image's answers not kept (RenderOptions::answers)
     for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
         const std::size_t from = std::size_t{j - r.j0} * r.w,
                           to = std::size_t{j} * ans_.width + r.i0;
@@ -2925,12 +2926,18 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
     ans.width = options.render.width;
     ans.height = options.render.height;
     const std::size_t pixels = std::size_t{ans.width} * ans.height;
+    const Aov aov = options.render.aov;
+    const bool colour_tiles = aov_is_local(aov);
     // Unwritten here: each root tile's worker writes its pixels' defaults (Walker::tile), so the
-    // pages are first touched in the workers (a 512² image's 7.6 MB: 2.5 ms on one thread).
-    ans.status.resize(pixels, boost::container::default_init);
-    ans.t.resize(pixels, boost::container::default_init);
-    ans.evals.resize(pixels, boost::container::default_init);
-    ans.normal.resize(pixels, boost::container::default_init);
+    // pages are first touched in the workers (a 512² image's 7.6 MB: 2.5 ms on one thread). Not
+    // at all where the caller wants the image alone and each tile is coloured from its own.
+    const bool keep = options.render.answers || !colour_tiles;
+    if (keep) {
+        ans.status.resize(pixels, boost::container::default_init);
+        ans.t.resize(pixels, boost::container::default_init);
+        ans.evals.resize(pixels, boost::container::default_init);
+        ans.normal.resize(pixels, boost::container::default_init);
+    }
     if (results != nullptr) {
         RayResult miss;
         miss.status = Status::Miss;
@@ -2950,21 +2957,29 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
     std::vector<RenderStats> counts(workers);
     // A pixel's colour in a local AOV is its own answer's: each worker colours its tiles as it
     // answers them (while they are in its cache) instead of a pass over the image afterwards.
-    const Aov aov = options.render.aov;
-    const bool colour_tiles = aov_is_local(aov);
     // (For a local AOV the scale is the light alone: the answers, not written yet, are not read.)
     const AovScale scale = colour_tiles ? aov_scale(ans, aov, options.render.light) : AovScale{};
     if (colour_tiles)
         result.image = RgbImage(ans.width, ans.height, boost::container::default_init);
     // The tile's pixels counted (by the walker: `counted`) and coloured once the walk has
-    // answered them. A tile answered without its rays (every pixel a Miss with no evaluation, so
-    // each row's colour is its first pixel's): its rows filled with that colour.
-    const auto finish = [&](const Rect& r, RenderStats& c, bool empty, const RenderStats& counted) {
+    // answered them, from the image's answers or the tile's own (`mine`). A tile answered without
+    // its rays (every pixel a Miss with no evaluation, so each row's colour is its first pixel's):
+    // its rows filled with that colour.
+    const auto finish = [&](const Rect& r, RenderStats& c, bool empty, const RenderStats& counted,
+                            const PixelAnswers& mine) {
         c.count_pixels(counted);
         if (!colour_tiles) return;
+        const auto span = [&](unsigned j, unsigned i0, unsigned i1) {
+            if (keep) {
+                colorize_span(ans, aov, scale, j, i0, i1, result.image);
+            } else {
+                colorize_span(mine, aov, scale, j - r.j0, i0 - r.i0, i1 - r.i0, result.image, r.i0,
+                              r.j0);
+            }
+        };
         if (empty) {
             for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
-                colorize_span(ans, aov, scale, j, r.i0, r.i0 + 1, result.image);
+                span(j, r.i0, r.i0 + 1);
                 const std::uint8_t* first = result.image.at(r.i0, j);
                 for (unsigned i = r.i0 + 1; i < r.i0 + r.w; ++i) {
                     result.image.set(i, j, first[0], first[1], first[2]);
@@ -2972,9 +2987,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
             }
             return;
         }
-        for (unsigned j = r.j0; j < r.j0 + r.h; ++j) {
-            colorize_span(ans, aov, scale, j, r.i0, r.i0 + r.w, result.image);
-        }
+        for (unsigned j = r.j0; j < r.j0 + r.h; ++j) span(j, r.i0, r.i0 + r.w);
     };
     WorkProgress* progress = options.render.progress;
     if (progress) progress->total.store(tiles, std::memory_order_relaxed);
@@ -2992,7 +3005,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
                 const Rect r{i0, j0, std::min(side, ans.width - i0),
                              std::min(side, ans.height - j0)};
                 const bool empty = walker.tile(r);
-                finish(r, counts[w], empty, walker.tile_counts);
+                finish(r, counts[w], empty, walker.tile_counts, walker.tile_answers());
                 if (progress) progress->done.fetch_add(1, std::memory_order_relaxed);
             }
             walk_stats[w] = walker.stats;

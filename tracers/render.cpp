@@ -138,24 +138,24 @@ AovScale aov_scale(const PixelAnswers& ans, Aov aov, const Vec3& light) {
 }
 
 void colorize_span(const PixelAnswers& ans, Aov aov, const AovScale& sc, unsigned j, unsigned i0,
-                   unsigned i1, RgbImage& img) {
+                   unsigned i1, RgbImage& img, unsigned x0, unsigned y0) {
     const Vec3& l = sc.light;
     if (aov == Aov::Shade) {  // the common case: a miss's colour is its row's, in bytes once
         double r, g, b;
-        background(j, ans.height, r, g, b);
+        background(y0 + j, img.height, r, g, b);
         const std::uint8_t sky[3] = {to_byte(r), to_byte(g), to_byte(b)};
         for (unsigned i = i0; i < i1; ++i) {
             const std::size_t k = std::size_t{j} * ans.width + i;
             const Status s = ans.status[k];
             if (s == Status::Miss) {
-                img.set(i, j, sky[0], sky[1], sky[2]);
+                img.set(x0 + i, y0 + j, sky[0], sky[1], sky[2]);
             } else if (s == Status::Hit) {
                 const auto& n = ans.normal[k];
                 const double lambert = std::max(0.0, n[0] * l[0] + n[1] * l[1] + n[2] * l[2]);
                 const double c = 0.18 + 0.82 * lambert;
-                put(img, i, j, 0.92 * c, 0.86 * c, 0.74 * c);
+                put(img, x0 + i, y0 + j, 0.92 * c, 0.86 * c, 0.74 * c);
             } else {
-                img.set(i, j, 255, 0, 255);
+                img.set(x0 + i, y0 + j, 255, 0, 255);
             }
         }
         return;
@@ -199,7 +199,7 @@ void colorize_span(const PixelAnswers& ans, Aov aov, const AovScale& sc, unsigne
                 }
                 break;
         }
-        put(img, i, j, r, g, b);
+        put(img, x0 + i, y0 + j, r, g, b);
     }
 }
 

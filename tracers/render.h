@@ -53,6 +53,12 @@ struct RenderOptions {
     /// given the same Lipschitz bounds (MethodInfo::cone); each pixel's evaluations include its
     /// share of the march's.
     const ConeMarch* cone = nullptr;
+    /// Keep every pixel's answer (RenderResult::answers). False: the caller wants the image and
+    /// the totals alone; for a local AOV (aov_is_local) the coherent renderer then colours each
+    /// tile from its own answers and leaves `answers` empty (its width and height set), writing
+    /// no image-sized arrays (a 512² image's 7.6 MB: their first touch was 5–8% of Barth's
+    /// image, docs/benchmarks.md, session 25). Other renderers keep them.
+    bool answers = true;
 };
 
 /// Per-image totals.
@@ -150,10 +156,12 @@ struct AovScale {
 };
 /// The scale of `answers` (for an AOV that is local, the light alone).
 AovScale aov_scale(const PixelAnswers& answers, Aov aov, const Vec3& light);
-/// Colours pixels i0 … i1 − 1 of row j into img (of the answers' size) as colorize does, without
-/// the colour bar; a renderer that colours its tiles as it answers them calls it for a local AOV.
+/// Colours pixels i0 … i1 − 1 of row j of `answers` into img as colorize does, without the colour
+/// bar, pixel (i, j) of the answers at (x0 + i, y0 + j) of the image (answers of the image's size:
+/// x0 = y0 = 0; a tile's own: its corner); a renderer that colours its tiles as it answers them
+/// calls it for a local AOV.
 void colorize_span(const PixelAnswers& answers, Aov aov, const AovScale& scale, unsigned j,
-                   unsigned i0, unsigned i1, RgbImage& img);
+                   unsigned i0, unsigned i1, RgbImage& img, unsigned x0 = 0, unsigned y0 = 0);
 
 /// Colours answers as `aov` (used by render_3d; exposed to recolour without re-tracing). Depth and
 /// steps images carry a colour bar at the bottom right (least value left, greatest right; the

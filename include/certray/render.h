@@ -47,6 +47,10 @@ struct RenderSettings {
     tracers::Vec3 light{-0.4, -0.9, 1.2};
     unsigned threads = 0;                       ///< 0: one per hardware thread
     tracers::WorkProgress* progress = nullptr;  ///< advanced tile by tile when set
+    /// Keep every pixel's answer in RenderResult::answers; false: the image and the totals alone,
+    /// faster for the certified image of a local AOV (shade, normal, status), whose answers are
+    /// then left empty (tracers::RenderOptions::answers).
+    bool answers = true;
 };
 
 /// The bounds box render() uses for `settings` on `scene`.

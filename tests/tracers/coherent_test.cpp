@@ -1077,6 +1077,8 @@ TEST(Coherent, WideBoxFormsOnSmoothListsKeepTheAnswers) {
 /// answers', whatever the tiles (an image not a multiple of the root tile) and threads; also
 /// where tiles are answered without their rays (a heightmap over bounds wider than the torus,
 /// a camera that sees past the bounds), counted at once and filled with their rows' colours.
+/// Without the image's answers kept (RenderOptions::answers), each tile coloured from its own: the
+/// same image and counts.
 TEST(Coherent, ImageAndCountsAreThoseOfTheAnswers) {
     const expr::Tape tape(expr::parse_expr("(x^2 + y^2 + z^2 + 0.84)^2 - 4*(x^2 + y^2)"));
     for (int view = 0; view < 4; ++view) {
@@ -1119,6 +1121,17 @@ TEST(Coherent, ImageAndCountsAreThoseOfTheAnswers) {
                 EXPECT_EQ(r.stats.max_pixel_evals, most);
                 EXPECT_GT(hit, 0u);
                 EXPECT_GT(miss, 0u);
+                // Without the image's answers (RenderOptions::answers), a local AOV's tiles are
+                // coloured from their own: the same image and totals, no image-sized arrays.
+                o.render.answers = false;
+                const RenderResult lean = render_3d_coherent(tape, o);
+                EXPECT_TRUE(lean.image.rgb == want.rgb) << "aov " << static_cast<int>(aov);
+                EXPECT_EQ(lean.stats.hit, hit);
+                EXPECT_EQ(lean.stats.miss, miss);
+                EXPECT_EQ(lean.stats.max_pixel_evals, most);
+                EXPECT_EQ(lean.stats.evals.total(), r.stats.evals.total());
+                EXPECT_EQ(lean.answers.width, o.render.width);
+                EXPECT_EQ(lean.answers.status.empty(), aov_is_local(aov));
             }
         }
     }
