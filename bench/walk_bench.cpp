@@ -1,7 +1,7 @@
 // bench/walk_bench.cpp — what one walk of the interval batch evaluator costs, by the number of
 // lanes it carries, in double and in binary32 bounds (Google Benchmark).
 //
-// The coherent renderer (tracers/coherent.cpp) walks short SSA lists over a few lanes at a time:
+// The coherent renderer (tracers/coherent_*.cpp) walks short SSA lists over a few lanes at a time:
 // a node's four quarters, a scan's pieces and points, the mean value forms' lanes of a tangent
 // list. A walk of one vector of lanes is paid whole, whatever its lanes (docs/benchmarks.md,
 // session 24), so the cost that matters is that of a walk, not of a lane. Lists: the SSA form of

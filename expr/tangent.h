@@ -18,8 +18,8 @@
 // The list runs in any interval walk of SSA lists (expr/eval.h's run<UpInterval>,
 // expr/eval_interval_batch.h's lanes) once the caller has written the seeds into their slots,
 // which no instruction writes. An operand slot that no instruction of `list` writes is an input
-// the caller fills too (as for a list folded to a region, tracers/coherent.cpp): its value is read
-// from the slot, and its derivative taken as 0, so that the derivative is the partial one with
+// the caller fills too (as for a list folded to a region, tracers/coherent_lanes.cpp): its value is
+// read from the slot, and its derivative taken as 0, so that the derivative is the partial one with
 // those inputs held fixed. Reference: docs/theory/coherent.md ("Mean value forms in lanes").
 #pragma once
 

@@ -183,7 +183,7 @@ TEST(Tangent, KinksTakeOneBranchWhereItIsCertainAndBothAtATie) {
     EXPECT_EQ(s.derivative.upper(), 0.0);
 }
 
-/// The mean value form the renderer takes (tracers/coherent.cpp): over the segment
+/// The mean value form the renderer takes (tracers/coherent_segments.cpp): over the segment
 /// {o + t·u : t ∈ [t0, t1]}, g(t) ∈ g(tc) + G′·(t − tc) for g(t) = f(o + t·u), with G′ the tangent
 /// list's derivative over the segment's box, wherever f is defined and continuous there and G′
 /// is finite (Lebourg's theorem at the kinks). Dyadic o, u and t keep every point exact, so f is

@@ -471,7 +471,7 @@ RC_GTEST_PROP(FoldSsa, FoldedListEnclosesTheFunctionOnSubBoxes, ()) {
     }
 }
 
-/// The renderer's mean value form on a folded list (tracers/coherent.cpp): over a segment
+/// The renderer's mean value form on a folded list (tracers/coherent_segments.cpp): over a segment
 /// {o + t·u : t ∈ [t0, t1]} inside the box the list was folded to, g(t) ∈ g(tc) + G′·(t − tc),
 /// with g(tc) and G′ from the folded list's tangent list (the fixed inputs' derivatives 0),
 /// wherever its value over the segment is defined and G′ finite. Dyadic o, u and t keep every

@@ -1,0 +1,229 @@
+// tracers/coherent_parts.h — internal to the coherent walk (tracers/coherent_*.cpp): the pieces
+// its Walker is made of (boxes of lanes, trials that run while they pay, a root tile's pixels, the
+// buffers of one depth of the descent) and the small functions on segments and lists they share.
+//
+// Contract: what tracers/coherent.h promises rests on tracers/coherent_walker.h's Walker; these are
+// its parts, with no meaning of their own outside it. Reference: docs/theory/coherent.md.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "expr/eval_interval_batch.h"
+#include "expr/prune.h"
+#include "expr/tangent.h"
+#include "expr/tape.h"
+#include "interval/interval.h"
+#include "solvers/ray.h"
+#include "tracers/segment_box.h"
+
+namespace certray::tracers::detail::coherent {
+
+using Ssa = std::vector<expr::Instr>;
+using Box = std::array<UpInterval, 3>;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Deepest node: past it a node is a leaf whatever its size (the solver bisects further).
+constexpr unsigned kMaxDepth = 80;
+
+/// A box of a batched evaluation (Walker::eval_lanes): [lo[c], hi[c]] per axis, from ray_bounds.
+struct LaneBox {
+    double lo[3], hi[3];
+};
+
+/// The box of ray_box(ray, p, q), as a LaneBox.
+[[gnu::always_inline]] inline LaneBox lane_box(const Ray& ray, double p, double q) {
+    LaneBox b;
+    ray_bounds(ray, p, q, b.lo, b.hi);
+    return b;
+}
+
+/// Something tried while it pays in a root tile (the mean value form of a box, tile pieces): the
+/// first `First` tries, then while at least one try in `Share` wins, and one in `Every` otherwise,
+/// to notice when it pays again. Each root tile starts afresh (the same answers in any thread).
+template <unsigned First, unsigned Every, unsigned Share = 4>
+struct PayingTrial {
+    unsigned tries = 0, wins = 0, passed = 0;
+    bool attempt() {
+        if (tries < First || Share * wins >= tries || ++passed % Every == 0) {
+            ++tries;
+            return true;
+        }
+        return false;
+    }
+    void reset() { tries = wins = passed = 0; }
+    /// Whether it is tried every time now (the first tries, or while it wins).
+    bool paying() const { return tries < First || Share * wins >= tries; }
+};
+
+/// The tangent list of a smooth tangent list `tl` (expr/tangent.h applied twice): run over a
+/// segment's box with both lists' seeds holding the ray's direction d, its slots tl.value and
+/// tl.derivative hold g and g′ and its `derivative` slot g″, for g(t) = f(o + t·d). tl's list
+/// gets two negations that copy its derivative into its last slot (the second list differentiates
+/// the last one). None where tl is absent or has kinks.
+inline std::optional<expr::TangentList> second_order_list(
+    const std::optional<expr::TangentList>& tl) {
+    if (!tl || !tl->smooth) return std::nullopt;
+    std::vector<expr::Instr> list = tl->list;
+    const std::uint32_t neg = tl->slots, copy = tl->slots + 1;
+    expr::Instr n{};
+    n.op = expr::Op::Neg;
+    n.a = tl->derivative;
+    n.out = neg;
+    list.push_back(n);
+    n.a = neg;
+    n.out = copy;
+    list.push_back(n);
+    auto second = expr::tangent_list(list);
+    if (second && !second->smooth) return std::nullopt;
+    return second;
+}
+
+/// The pixels [i0, i0 + w) × [j0, j0 + h) of the image.
+struct Rect {
+    unsigned i0, j0, w, h;
+};
+
+/// A pixel of the current root tile: its ray and whether it is still open (meets the bounds and
+/// has no answer yet).
+struct Px {
+    Ray ray;
+    bool open = false;
+    std::uint8_t splits = 0;  ///< undecided leaf segments split again for this ray so far
+};
+
+/// How often one ray's undecided leaf segment is split again (with a tape pruned to each half)
+/// before the per-ray solver takes the rest of the ray.
+constexpr std::uint8_t kMaxSplits = 24;
+
+/// The buffers of one depth of the descent: the slot enclosures of the node's box evaluation,
+/// the list pruned to that box, and the register tape a leaf builds from it.
+/// A list's tangent list (expr/tangent.h; none when the list has an op without a rule) and its
+/// kind (expr::tangent_kind), each made once asked for; forgotten when the list is rewritten.
+struct TangentCache {
+    std::optional<expr::TangentList> tangent;
+    bool known = false;
+    std::optional<expr::TangentKind> kind;
+    const expr::TangentList* of(const Ssa& list) {
+        if (!known) {
+            tangent = expr::tangent_list(list);
+            known = true;
+        }
+        return tangent ? &*tangent : nullptr;
+    }
+    expr::TangentKind kind_of(const Ssa& list) {
+        if (!kind) kind = expr::tangent_kind(list);
+        return *kind;
+    }
+    void forget() {
+        known = false;
+        kind.reset();
+    }
+};
+
+struct Level {
+    std::vector<UpInterval> values;
+    /// Walker::split_screen: the slot enclosures of the quarters walked in lanes, each swapped
+    /// into `values` when its descent comes.
+    std::array<std::vector<UpInterval>, 4> quarters;
+    Ssa list;
+    expr::Tape tape;
+    /// A ray scanned with others (Walker::scan_together), waiting to be settled.
+    struct Scanned {
+        unsigned i, j;
+        Ray s;
+        RayResult res;
+        std::size_t begin = 0, end = 0;  ///< its pieces: Walker::pieces_[begin, end)
+        // Built in place (emplace_back) and filled there: a local copy written field by field
+        // and then copied 16 bytes at a time stalled store forwarding (a fifth of
+        // scan_together's samples on Barth's sextic). `ray` over [tmin, tmax], not answered.
+        Scanned(unsigned pi, unsigned pj, const Ray& ray, double tmin, double tmax)
+            : i(pi), j(pj), s(ray) {
+            s.tmin = tmin;
+            s.tmax = tmax;
+            res.status = Status::Miss;
+        }
+    };
+    std::vector<Scanned> scanned;
+    TangentCache tangent;  ///< of `list`
+    /// The list that this level's scan in lanes walks (Walker::fold): folded to the node's box
+    /// (expr::fold_ssa), or empty (the list itself).
+    expr::FoldedList folded;
+    TangentCache folded_tangent;  ///< of folded.list
+};
+
+/// The inputs (x, y, z) and registers of the walks in lanes: IntervalLanes (double bounds) or
+/// IntervalLanesF (binary32 bounds, CoherentOptions::float_lanes).
+template <class L>
+struct LaneFile {
+    std::array<L, 3> in;
+    std::vector<L> regs;
+};
+
+/// Whether the ops that the binary32 walk takes in double (expr::binary32_kernel: pow, tan,
+/// floor and the other ops without a vector kernel) are at most a sixth of the instructions of
+/// `list`: where they are many, that costs more than eight lanes save (the gyroid's quarter of sin
+/// and cos, before they had binary32 kernels: 7% more time; docs/benchmarks.md, session 19).
+inline bool mostly_arithmetic(const Ssa& list) {
+    const auto n = std::count_if(list.begin(), list.end(), [](const expr::Instr& in) {
+        return !expr::binary32_kernel(in.op);
+    });
+    return 6 * static_cast<std::size_t>(n) <= list.size();
+}
+
+inline bool splittable(double a, double b) {
+    const double m = 0.5 * a + 0.5 * b;
+    return a < m && m < b;
+}
+
+inline bool has_choices(const Ssa& list) {
+    return std::any_of(list.begin(), list.end(), [](const expr::Instr& in) {
+        return in.op == expr::Op::Min || in.op == expr::Op::Max;
+    });
+}
+
+/// How many pieces w wide a scan cuts segment s into.
+inline int pieces_of(const Ray& s, double w) {
+    return static_cast<int>(std::ceil((s.tmax - s.tmin) / w));
+}
+
+/// Whether pieces_of(s, w) < m for a nonempty s (s.tmin < s.tmax), w > 0 and m − 1 a power of
+/// two, without the division: in any rounding mode the quotient rounds to at most m − 1 exactly
+/// when the length is at most (m − 1)·w (exact: m − 1 is a power of two).
+inline bool fewer_pieces(const Ray& s, double w, int m) { return s.tmax - s.tmin <= (m - 1) * w; }
+
+/// Piece k of the n pieces of segment s, w wide, front to back (the last one ends at s.tmax); it
+/// may be empty (lo ≥ hi) where rounding left nothing for it.
+inline std::pair<double, double> piece(const Ray& s, double w, int k, int n) {
+    const double lo = k == 0 ? s.tmin : std::min(s.tmax, s.tmin + k * w);
+    const double hi = k + 1 == n ? s.tmax : std::min(s.tmax, s.tmin + (k + 1) * w);
+    return {lo, hi};
+}
+
+/// A register tape from a list written by prune_ssa (slots in any order): renumbered so that slot
+/// i is instruction i, as Tape::from_ssa wants.
+inline expr::Tape tape_of(const Ssa& list) {
+    Ssa ssa = list;
+    std::vector<std::uint32_t> index(ssa.size());
+    for (std::size_t i = 0; i < ssa.size(); ++i) {
+        expr::Instr& in = ssa[i];
+        const int k = expr::arity(in.op);
+        if (k >= 1) in.a = index[in.a];
+        if (k == 2) in.b = index[in.b];
+        index[in.out] = static_cast<std::uint32_t>(i);
+        in.out = static_cast<std::uint32_t>(i);
+    }
+    return expr::Tape::from_ssa(std::move(ssa));
+}
+
+/// Hits waiting for their normals (Walker::flush_normals): fewer take a Dual walk each (a walk of
+/// lanes costs more for one or two points: measured on the gyroid).
+constexpr int kFewNormals = 3;
+
+}  // namespace certray::tracers::detail::coherent
