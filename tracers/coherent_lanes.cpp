@@ -255,20 +255,20 @@ void Walker::load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m) {
 #else
     assert(std::fegetround() == FE_UPWARD);
 #endif
-    for (int c = 0; c < 3; ++c) {
-        L& x = file.in[c];
-        std::uint64_t def = 0;
-        for (int k = 0; k < m; ++k) {
+    // Box by box (they lie in memory so), without a branch: a lane that is not lo ≤ hi gets
+    // empty()'s bounds (NaN, which both conversions keep) and no decoration, as set_lane would.
+    const UpInterval empty = UpInterval::empty();
+    std::uint64_t def[3] = {0, 0, 0};
+    for (int k = 0; k < m; ++k) {
+        for (int c = 0; c < 3; ++c) {
             const double lo = boxes[k].lo[c], hi = boxes[k].hi[c];
-            if (lo <= hi) {
-                expr::set_bounds_upward(x, k, lo, hi);
-                def |= std::uint64_t{1} << k;
-            } else {
-                expr::set_lane(x, k, UpInterval::empty());
-            }
+            const bool ok = lo <= hi;
+            expr::set_bounds_upward(file.in[c], k, ok ? lo : empty.lower(),
+                                    ok ? hi : empty.upper());
+            def[c] |= std::uint64_t{ok} << k;
         }
-        x.defined[0] = def;
     }
+    for (int c = 0; c < 3; ++c) file.in[c].defined[0] = def[c];
 }
 
 void Walker::eval_lanes(const Ssa& list, const LaneBox* boxes, std::size_t n,
