@@ -402,8 +402,8 @@ using Bound = std::remove_cvref_t<decltype(L::lo[0])>;
 /// L: the registers, IntervalLanes (V of doubles) or IntervalLanesF (V of floats). K > 0: n lies in
 /// ((K − 1)·kWidth, K·kWidth], the lanes of K vectors in one word of decorations, with `last` the
 /// live lanes of the last one (the loops' bounds known when compiled: a walk of one vector, the
-/// most frequent in the coherent renderer, costs 0.7 of one with the bounds counted at run time,
-/// docs/benchmarks.md, session 25); K = 0: any n.
+/// most frequent in the coherent renderer, costs about 0.8 of one with the bounds counted at run
+/// time, docs/benchmarks.md, session 25); K = 0: any n.
 template <class V, Op OP, int K, class L>
 [[gnu::always_inline]] inline void vector_step(const Instr& in, L* r, int n, unsigned last) {
     constexpr int W = V::kWidth;
