@@ -5,7 +5,7 @@
 # build, the least and the median of the rounds' times (Google Benchmark's time column, real time).
 # Usage: scripts/bench_rounds.sh ROUNDS FILTER BENCH BUILD_DIR...
 #   e.g. scripts/bench_rounds.sh 8 'BM_Coherent/scene:0/side:512/ortho:0/threads:1/image:1' \
-#        coherent_bench /work/build-before build
+#        coherent_bench ../build-before build
 set -euo pipefail
 if (($# < 4)); then
     sed -n '2,9p' "$0" >&2
