@@ -177,50 +177,16 @@ inline bool mostly_arithmetic(const Ssa& list) {
     return 6 * static_cast<std::size_t>(n) <= list.size();
 }
 
-inline bool splittable(double a, double b) {
-    const double m = 0.5 * a + 0.5 * b;
-    return a < m && m < b;
-}
-
 inline bool has_choices(const Ssa& list) {
     return std::any_of(list.begin(), list.end(), [](const expr::Instr& in) {
         return in.op == expr::Op::Min || in.op == expr::Op::Max;
     });
 }
 
-/// How many pieces w wide a scan cuts segment s into.
-inline int pieces_of(const Ray& s, double w) {
-    return static_cast<int>(std::ceil((s.tmax - s.tmin) / w));
-}
-
 /// Whether pieces_of(s, w) < m for a nonempty s (s.tmin < s.tmax), w > 0 and m − 1 a power of
 /// two, without the division: in any rounding mode the quotient rounds to at most m − 1 exactly
 /// when the length is at most (m − 1)·w (exact: m − 1 is a power of two).
 inline bool fewer_pieces(const Ray& s, double w, int m) { return s.tmax - s.tmin <= (m - 1) * w; }
-
-/// Piece k of the n pieces of segment s, w wide, front to back (the last one ends at s.tmax); it
-/// may be empty (lo ≥ hi) where rounding left nothing for it.
-inline std::pair<double, double> piece(const Ray& s, double w, int k, int n) {
-    const double lo = k == 0 ? s.tmin : std::min(s.tmax, s.tmin + k * w);
-    const double hi = k + 1 == n ? s.tmax : std::min(s.tmax, s.tmin + (k + 1) * w);
-    return {lo, hi};
-}
-
-/// A register tape from a list written by prune_ssa (slots in any order): renumbered so that slot
-/// i is instruction i, as Tape::from_ssa wants.
-inline expr::Tape tape_of(const Ssa& list) {
-    Ssa ssa = list;
-    std::vector<std::uint32_t> index(ssa.size());
-    for (std::size_t i = 0; i < ssa.size(); ++i) {
-        expr::Instr& in = ssa[i];
-        const int k = expr::arity(in.op);
-        if (k >= 1) in.a = index[in.a];
-        if (k == 2) in.b = index[in.b];
-        index[in.out] = static_cast<std::uint32_t>(i);
-        in.out = static_cast<std::uint32_t>(i);
-    }
-    return expr::Tape::from_ssa(std::move(ssa));
-}
 
 /// Hits waiting for their normals (Walker::flush_normals): fewer take a Dual walk each (a walk of
 /// lanes costs more for one or two points: measured on the gyroid).

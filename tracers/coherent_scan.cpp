@@ -8,6 +8,20 @@
 #include "tracers/coherent_walker.h"
 
 namespace certray::tracers::detail::coherent {
+namespace {
+
+/// How many pieces w wide a scan cuts segment s into.
+int pieces_of(const Ray& s, double w) { return static_cast<int>(std::ceil((s.tmax - s.tmin) / w)); }
+
+/// Piece k of the n pieces of segment s, w wide, front to back (the last one ends at s.tmax); it
+/// may be empty (lo ≥ hi) where rounding left nothing for it.
+std::pair<double, double> piece(const Ray& s, double w, int k, int n) {
+    const double lo = k == 0 ? s.tmin : std::min(s.tmax, s.tmin + k * w);
+    const double hi = k + 1 == n ? s.tmax : std::min(s.tmax, s.tmin + (k + 1) * w);
+    return {lo, hi};
+}
+
+}  // namespace
 
 RayResult Walker::scan(const Ssa& list, const Ray& s, double width, int finer) {
     if (scan_.size() < list.size()) scan_.resize(list.size());

@@ -11,6 +11,31 @@
 #include "tracers/coherent_walker.h"
 
 namespace certray::tracers::detail::coherent {
+namespace {
+
+/// Whether [a, b] can be halved: its middle, as the walk takes it, lies strictly inside.
+bool splittable(double a, double b) {
+    const double m = 0.5 * a + 0.5 * b;
+    return a < m && m < b;
+}
+
+/// A register tape from a list written by prune_ssa (slots in any order): renumbered so that slot
+/// i is instruction i, as Tape::from_ssa wants.
+expr::Tape tape_of(const Ssa& list) {
+    Ssa ssa = list;
+    std::vector<std::uint32_t> index(ssa.size());
+    for (std::size_t i = 0; i < ssa.size(); ++i) {
+        expr::Instr& in = ssa[i];
+        const int k = expr::arity(in.op);
+        if (k >= 1) in.a = index[in.a];
+        if (k == 2) in.b = index[in.b];
+        index[in.out] = static_cast<std::uint32_t>(i);
+        in.out = static_cast<std::uint32_t>(i);
+    }
+    return expr::Tape::from_ssa(std::move(ssa));
+}
+
+}  // namespace
 
 bool Walker::tile(const Rect& r) {
     root_ = r;
