@@ -16,6 +16,8 @@
 // - Exp, Log (x86): interval/exp_log_kernel.h's bounds on kWidth lanes at once, as the scalar exp()
 //   and log() take them; lanes with a bound where the kernel does not apply call the scalar one.
 //   Sin, Cos (x86): interval/trig_kernel.h's bounds likewise.
+// - Pow (x86): Boost's pow_dn and pow_up chains (square and multiply) on the bases of its sign
+//   cases, each lane's chain rounded down or up by exact sign flips (pow_kernel).
 // - Exp, Log elsewhere: the scalar exp() and log() with their nearest2 batched: one write of
 //   MXCSR to round-to-nearest for all lanes of the instruction, libm lane by lane, one write back
 //   to upward, then the same widening (exp_below/exp_above, log_below/log_above); the lanes log
@@ -25,8 +27,8 @@
 // and AVX-512 (target attributes, flattened entry points as in expr/eval_batch.cpp) and chosen by
 // batch_isa(). Decorations are bit masks, so a lane's decoration costs a bit of a mask register.
 // The binary32 walk (IntervalLanesF) is the same template over binary32 vectors (IvSse2F, IvAvx2F,
-// IvAvx512F): the kernels of + − × ÷ square √ neg abs min max 1/x, their Boost lanes by the scalar
-// operation rounded outward, exp and log by interval/exp_log_kernel_f32.h and sin and cos by
+// IvAvx512F): the kernels of + − × ÷ square √ neg abs min max 1/x xⁿ, their Boost lanes by the
+// scalar operation rounded outward, exp and log by interval/exp_log_kernel_f32.h and sin and cos by
 // interval/trig_kernel_f32.h (kernel_lanes_f32), every other op through the double walk
 // (via_double), so its contract is inclusion, not equality.
 // Reference: docs/theory/interval_batch.md; timings in docs/benchmarks.md, "Interval batch walk".
@@ -372,6 +374,60 @@ template <class V, Op OP>
     }
 }
 
+/// pow(x, p) of interval.h (Boost's pow) on lanes [alo, ahi], in upward mode: x⁰ = [1, 1]; for
+/// p ≥ 1 the chains of pow_dn and pow_up (square-and-multiply, x·x then y·x per bit of p, each
+/// product RU(x·y) or RD(x·y) = −RU(x·(−y))) on the bases Boost's sign cases take:
+///   odd p:  lo = a < 0 ? −up(−a) : dn(a),  hi = b < 0 ? −dn(−b) : up(b);
+///   even p: b < 0: [dn(−b), up(−a)];  a < 0 ≤ b: [0, up(max(−a, b))];  else [dn(a), up(b)].
+/// Each chain rounds down or up lane by lane by the sign flips of the operand and the product
+/// (exact), so every lane sees the scalar's products in its order: the same bits. Empty operands
+/// give empty(); a NaN bound (which Boost's pow does not make from a non-empty operand) leaves its
+/// lane to the scalar operation.
+template <class V>
+[[gnu::always_inline]] inline Chunk<V> pow_kernel(typename V::R alo, typename V::R ahi,
+                                                  unsigned p) {
+    using R = typename V::R;
+    const R nan = V::set1(std::numeric_limits<double>::quiet_NaN());
+    const R zero = V::set1(0.0), one = V::set1(1.0), sign = V::set1(-0.0);
+    const typename V::M e = V::le(alo, ahi);
+    const unsigned def = V::bits(e);
+    if (p == 0) return {V::select(e, one, nan), V::select(e, one, nan), (1u << V::kWidth) - 1, def};
+    const typename V::M na = V::lt(alo, zero), nb = V::lt(ahi, zero);
+    const bool odd = (p & 1) != 0;
+    R base_lo, base_hi, flip_lo, flip_hi;  // flip: −0.0 where the chain rounds down, else +0.0
+    if (odd) {
+        base_lo = V::select(na, V::neg(alo), alo);
+        base_hi = V::select(nb, V::neg(ahi), ahi);
+        flip_lo = V::select(na, zero, sign);
+        flip_hi = V::select(nb, sign, zero);
+    } else {
+        base_lo = V::select(nb, V::neg(ahi), alo);
+        base_hi = V::select(nb, V::neg(alo), V::select(na, V::max(V::neg(alo), ahi), ahi));
+        flip_lo = sign;
+        flip_hi = zero;
+    }
+    const auto chain = [p, one](R x, R m) {
+        const auto mul = [m](R u, R v) { return V::flip(V::mul(u, V::flip(v, m)), m); };
+        R y = (p & 1) != 0 ? x : one;
+        for (unsigned q = p >> 1; q > 0; q >>= 1) {
+            x = mul(x, x);
+            if ((q & 1) != 0) y = mul(x, y);
+        }
+        return y;
+    };
+    const R clo = chain(base_lo, flip_lo), chi = chain(base_hi, flip_hi);
+    R lo, hi;
+    if (odd) {
+        lo = V::select(na, V::neg(clo), clo);
+        hi = V::select(nb, V::neg(chi), chi);
+    } else {
+        lo = V::select(V::both(na, V::le(zero, ahi)), zero, clo);
+        hi = chi;
+    }
+    const unsigned ok = V::bits(V::le(lo, hi)) | ~def;
+    return {V::select(e, lo, nan), V::select(e, hi, nan), ok, def};
+}
+
 /// kernel<V, Op::Mul> where one operand is a point in every lane ([c, c], the same bits: a
 /// constant's lanes), with the products that repeat taken once: over b = [c, c] the kernel's
 /// al·bhi and ah·bhi are its al·blo and ah·blo, bit for bit, so its hi = max(m, m) = m with
@@ -420,7 +476,9 @@ template <class V, Op OP, int K, class L>
             const typename V::R alo = V::load(a.lo + k), ahi = V::load(a.hi + k);
             const typename V::R blo = V::load(b.lo + k), bhi = V::load(b.hi + k);
             Chunk<V> c;
-            if constexpr (OP == Op::Mul) {
+            if constexpr (OP == Op::Pow) {
+                c = pow_kernel<V>(alo, ahi, in.b);
+            } else if constexpr (OP == Op::Mul) {
                 if (V::same(blo, bhi) == kAll) {
                     c = mul_by_point<V>(alo, ahi, blo, bhi, true);
                 } else if (V::same(alo, ahi) == kAll) {
@@ -729,6 +787,7 @@ inline void walk_k(const Instr* in, const Instr* const end, const L* p, L* r, in
                 CERTRAY_VECTOR_CASE(Recip)
                 CERTRAY_VECTOR_CASE(Min)
                 CERTRAY_VECTOR_CASE(Max)
+                CERTRAY_VECTOR_CASE(Pow)
 #undef CERTRAY_VECTOR_CASE
             case Op::Exp:
             case Op::Log:
@@ -744,7 +803,6 @@ inline void walk_k(const Instr* in, const Instr* const end, const L* p, L* r, in
                     trig_lanes<V>(in->op == Op::Sin, r[in->a], r[in->out], n);
                 }
                 break;
-            case Op::Pow:
             case Op::Floor:
             case Op::Ceil:
             case Op::Round:

@@ -133,6 +133,7 @@ constexpr bool binary32_kernel(Op op) noexcept {
         case Op::Log:
         case Op::Sin:
         case Op::Cos:
+        case Op::Pow:
             return true;
         default:
             return false;

@@ -166,8 +166,8 @@ struct LaneFile {
     std::vector<L> regs;
 };
 
-/// Whether the ops that the binary32 walk takes in double (expr::binary32_kernel: pow, tan,
-/// floor and the other ops without a vector kernel) are at most a sixth of the instructions of
+/// Whether the ops that the binary32 walk takes in double (expr::binary32_kernel: tan, floor
+/// and the other ops without a vector kernel) are at most a sixth of the instructions of
 /// `list`: where they are many, that costs more than eight lanes save (the gyroid's quarter of sin
 /// and cos, before they had binary32 kernels: 7% more time; docs/benchmarks.md, session 19).
 inline bool mostly_arithmetic(const Ssa& list) {
