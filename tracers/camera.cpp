@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -10,7 +11,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include "expr/batch_simd.h"
 #include "expr/eval.h"
+#include "expr/eval_batch.h"
 #include "expr/prune.h"
 #include "interval/interval.h"
 #include "tracers/parallel.h"
@@ -71,27 +74,46 @@ struct Row8 {
     std::int64_t odd[kRow];  ///< nonzero: a lane the vectors do not take (redone one by one)
 };
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#define CERTRAY_ROW_CLONES [[gnu::target_clones("avx512f", "avx2", "default")]]
+/// √ of the eight lanes of x, V::kWidth at a time (the vector instruction: correctly rounded, as
+/// std::sqrt), or one by one where there are no vectors.
+template <class V>
+[[gnu::always_inline]] inline V8 sqrt8(const V8& x) {
+    alignas(64) double a[kRow], s[kRow];
+    std::memcpy(a, &x, sizeof a);
+#if CERTRAY_BATCH_X86
+    for (int k = 0; k < kRow; k += V::kWidth) V::store(s + k, V::sqrt(V::load(a + k)));
 #else
-#define CERTRAY_ROW_CLONES
+    for (int k = 0; k < kRow; ++k) s[k] = std::sqrt(a[k]);
 #endif
+    V8 r;
+    std::memcpy(&r, s, sizeof r);
+    return r;
+}
+
 /// CameraFrame::ray's direction and clip_ray's slabs for eight rays, with the scalar code's
 /// operations in its order (IEEE arithmetic: the same bits). A lane where a branch of the
 /// scalar code is not the common one (a zero length or direction component, a slab parameter
-/// outside step_up's integer range) is marked odd.
-CERTRAY_ROW_CLONES void row8(Row8& r) {
+/// outside step_up's integer range) is marked odd. V: the vector type of the √ (expr/batch_simd.h).
+template <class V>
+[[gnu::always_inline]] inline void row8_in(Row8& r) {
     V8 u, x[3];
     std::memcpy(&u, r.u, sizeof u);
     const double* f = r.frame;
     for (int c = 0; c < 3; ++c) x[c] = f[c] + u * f[3 + c] + r.v * f[6 + c];
-    const V8 n2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
-    V8 n;
-    for (int k = 0; k < kRow; ++k) n[k] = std::sqrt(n2[k]);
+    const V8 n = sqrt8<V>(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
     M8 odd = ~(n > 0) | ~(n < std::numeric_limits<double>::infinity());  // masks: 0 or −1
     const V8 inf = V8{} + std::numeric_limits<double>::infinity();
     V8 t0 = V8{}, t1 = inf;
     const U8 four = U8{} + 4;
+    // |p| within [2⁻¹⁰⁰⁰, 2¹⁰⁰⁰] (step_up's integer range), compared as the bits of |p|, which
+    // order the non-negative doubles as their values do and put NaN above +inf.
+    const M8 magnitude = M8{} + std::numeric_limits<std::int64_t>::max();
+    const std::int64_t small = std::bit_cast<std::int64_t>(0x1p-1000),
+                       big = std::bit_cast<std::int64_t>(0x1p1000);
+    const auto out_of_range = [&](const V8& p) {
+        const M8 a = (M8)p & magnitude;  // a cast of vectors keeps the bits
+        return (a < small) | (a > big);
+    };
     for (int c = 0; c < 3; ++c) {
         const V8 d = x[c] / n;
         std::memcpy(r.d[c], &d, sizeof d);
@@ -99,11 +121,10 @@ CERTRAY_ROW_CLONES void row8(Row8& r) {
         V8 ta = (r.box[2 * c] - r.eye[c]) / d, tb = (r.box[2 * c + 1] - r.eye[c]) / d;
         const M8 swap = ta > tb;
         const V8 lo = swap ? tb : ta, hi = swap ? ta : tb;
-        const V8 alo = lo < 0 ? -lo : lo, ahi = hi < 0 ? -hi : hi;
-        odd |= ~(alo >= 0x1p-1000) | ~(alo <= 0x1p1000) | ~(ahi >= 0x1p-1000) | ~(ahi <= 0x1p1000);
+        odd |= out_of_range(lo) | out_of_range(hi);
         // step_down(lo, 4) and step_up(hi, 4) in their integer range: 4 ulps away from 0 (up)
         // or towards it, as the sign says.
-        const U8 blo = (U8)lo, bhi = (U8)hi;  // a cast of vectors keeps the bits
+        const U8 blo = (U8)lo, bhi = (U8)hi;
         const U8 slo = lo > 0 ? blo - four : blo + four;
         const U8 shi = hi > 0 ? bhi + four : bhi - four;
         ta = (V8)slo;
@@ -114,6 +135,87 @@ CERTRAY_ROW_CLONES void row8(Row8& r) {
     std::memcpy(r.t0, &t0, sizeof t0);
     std::memcpy(r.t1, &t1, sizeof t1);
     std::memcpy(r.odd, &odd, sizeof odd);
+}
+
+#if CERTRAY_BATCH_X86
+using expr::detail::Avx2;
+using expr::detail::Sse2;
+[[gnu::flatten]] void row8_baseline(Row8& r) { row8_in<Sse2>(r); }
+[[gnu::target("avx2"), gnu::flatten]] void row8_avx2(Row8& r) { row8_in<Avx2>(r); }
+
+/// row8_in in AVX-512F's own terms: its comparisons give mask registers, which GCC 12 cannot
+/// turn into row8_in's vectors of masks without AVX512DQ (it took each lane apart: 5.8% of the
+/// sphere's render at 1024², docs/benchmarks.md, session 26). The same operations on the same
+/// operands in the same order: the same bits.
+[[gnu::target("avx512f"), gnu::always_inline]] inline __mmask8 out_of_range512(__m512d p) {
+    // row8_in's test, on the bits of |p|
+    const __m512i a = _mm512_and_si512(_mm512_castpd_si512(p),
+                                       _mm512_set1_epi64(std::numeric_limits<std::int64_t>::max()));
+    return static_cast<__mmask8>(
+        _mm512_cmp_epi64_mask(a, _mm512_set1_epi64(std::bit_cast<std::int64_t>(0x1p-1000)),
+                              _MM_CMPINT_LT) |
+        _mm512_cmp_epi64_mask(a, _mm512_set1_epi64(std::bit_cast<std::int64_t>(0x1p1000)),
+                              _MM_CMPINT_NLE));
+}
+[[gnu::target("avx512f")]] void row8_avx512(Row8& r) {
+    const __m512d zero = _mm512_setzero_pd(),
+                  inf = _mm512_set1_pd(std::numeric_limits<double>::infinity());
+    const __m512d u = _mm512_loadu_pd(r.u), v = _mm512_set1_pd(r.v);
+    const double* f = r.frame;
+    __m512d x[3];
+    for (int c = 0; c < 3; ++c) {
+        x[c] = _mm512_add_pd(
+            _mm512_add_pd(_mm512_set1_pd(f[c]), _mm512_mul_pd(u, _mm512_set1_pd(f[3 + c]))),
+            _mm512_mul_pd(v, _mm512_set1_pd(f[6 + c])));
+    }
+    const __m512d n = _mm512_sqrt_pd(
+        _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(x[0], x[0]), _mm512_mul_pd(x[1], x[1])),
+                      _mm512_mul_pd(x[2], x[2])));
+    __mmask8 odd = static_cast<__mmask8>(
+        ~(_mm512_cmp_pd_mask(n, zero, _CMP_GT_OQ) & _mm512_cmp_pd_mask(n, inf, _CMP_LT_OQ)));
+    __m512d t0 = zero, t1 = inf;
+    const __m512i four = _mm512_set1_epi64(4);
+    for (int c = 0; c < 3; ++c) {
+        const __m512d d = _mm512_div_pd(x[c], n);
+        _mm512_storeu_pd(r.d[c], d);
+        odd |= _mm512_cmp_pd_mask(d, zero, _CMP_EQ_OQ);
+        const __m512d ta = _mm512_div_pd(_mm512_set1_pd(r.box[2 * c] - r.eye[c]), d);
+        const __m512d tb = _mm512_div_pd(_mm512_set1_pd(r.box[2 * c + 1] - r.eye[c]), d);
+        const __mmask8 swap = _mm512_cmp_pd_mask(ta, tb, _CMP_GT_OQ);
+        const __m512d lo = _mm512_mask_blend_pd(swap, ta, tb),
+                      hi = _mm512_mask_blend_pd(swap, tb, ta);
+        odd |= out_of_range512(lo) | out_of_range512(hi);
+        const __m512i blo = _mm512_castpd_si512(lo), bhi = _mm512_castpd_si512(hi);
+        const __mmask8 plo = _mm512_cmp_pd_mask(lo, zero, _CMP_GT_OQ),
+                       phi = _mm512_cmp_pd_mask(hi, zero, _CMP_GT_OQ);
+        const __m512d sa = _mm512_castsi512_pd(
+            _mm512_mask_blend_epi64(plo, _mm512_add_epi64(blo, four), _mm512_sub_epi64(blo, four)));
+        const __m512d sb = _mm512_castsi512_pd(
+            _mm512_mask_blend_epi64(phi, _mm512_sub_epi64(bhi, four), _mm512_add_epi64(bhi, four)));
+        t0 = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(t0, sa, _CMP_LT_OQ), t0, sa);
+        t1 = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(sb, t1, _CMP_LT_OQ), t1, sb);
+    }
+    _mm512_storeu_pd(r.t0, t0);
+    _mm512_storeu_pd(r.t1, t1);
+    for (int k = 0; k < kRow; ++k) r.odd[k] = (odd >> k) & 1 ? -1 : 0;
+}
+#endif
+
+/// row8_in on the instruction set of the batch walks (expr::batch_isa(): the same bits on each).
+void row8(Row8& r) {
+#if CERTRAY_BATCH_X86
+    switch (expr::batch_isa()) {
+        case expr::BatchIsa::Avx512:
+            return row8_avx512(r);
+        case expr::BatchIsa::Avx2:
+            return row8_avx2(r);
+        case expr::BatchIsa::Baseline:
+            break;
+    }
+    row8_baseline(r);
+#else
+    row8_in<void>(r);
+#endif
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 
 #include "expr/parser.h"
 #include "expr/tape.h"
+#include "tests/support/batch_isa.h"
 #include "tracers/camera.h"
 #include "tracers/methods.h"
 #include "tracers/png_io.h"
@@ -281,25 +282,30 @@ TEST(Camera, ClippedRowsAreTheRaysOneByOne) {
          7},
     };
     std::size_t lanes = 0, inside = 0;
-    for (const View& view : views) {
-        const CameraFrame frame(view.camera, view.width, view.height);
-        std::vector<Ray> row(view.width);
-        std::unique_ptr<bool[]> in(new bool[view.width]);
-        for (unsigned j = 0; j < view.height; ++j) {
-            for (unsigned i0 : {0u, 3u}) {
-                const unsigned n = view.width - i0;
-                frame.clipped_row(i0, j, n, view.bounds, row.data(), in.get());
-                for (unsigned k = 0; k < n; ++k) {
-                    Ray one = frame.ray(i0 + k + 0.5, j + 0.5);
-                    const bool meets = clip_ray(one, view.bounds);
-                    ++lanes;
-                    inside += meets;
-                    EXPECT_EQ(in[k], meets) << i0 + k << ", " << j;
-                    EXPECT_EQ(bits(row[k].tmin), bits(one.tmin)) << i0 + k << ", " << j;
-                    EXPECT_EQ(bits(row[k].tmax), bits(one.tmax)) << i0 + k << ", " << j;
-                    for (int c = 0; c < 3; ++c) {
-                        EXPECT_EQ(bits(row[k].o[c]), bits(one.o[c])) << i0 + k << ", " << j;
-                        EXPECT_EQ(bits(row[k].d[c]), bits(one.d[c])) << i0 + k << ", " << j;
+    testing::BatchIsaGuard guard;  // each copy of the row's vector code (expr::batch_isa())
+    for (const expr::BatchIsa isa : testing::batch_isas()) {
+        expr::set_batch_isa(isa);
+        SCOPED_TRACE(expr::batch_isa_name(isa));
+        for (const View& view : views) {
+            const CameraFrame frame(view.camera, view.width, view.height);
+            std::vector<Ray> row(view.width);
+            std::unique_ptr<bool[]> in(new bool[view.width]);
+            for (unsigned j = 0; j < view.height; ++j) {
+                for (unsigned i0 : {0u, 3u}) {
+                    const unsigned n = view.width - i0;
+                    frame.clipped_row(i0, j, n, view.bounds, row.data(), in.get());
+                    for (unsigned k = 0; k < n; ++k) {
+                        Ray one = frame.ray(i0 + k + 0.5, j + 0.5);
+                        const bool meets = clip_ray(one, view.bounds);
+                        ++lanes;
+                        inside += meets;
+                        EXPECT_EQ(in[k], meets) << i0 + k << ", " << j;
+                        EXPECT_EQ(bits(row[k].tmin), bits(one.tmin)) << i0 + k << ", " << j;
+                        EXPECT_EQ(bits(row[k].tmax), bits(one.tmax)) << i0 + k << ", " << j;
+                        for (int c = 0; c < 3; ++c) {
+                            EXPECT_EQ(bits(row[k].o[c]), bits(one.o[c])) << i0 + k << ", " << j;
+                            EXPECT_EQ(bits(row[k].d[c]), bits(one.d[c])) << i0 + k << ", " << j;
+                        }
                     }
                 }
             }
