@@ -59,9 +59,6 @@ Ray CameraFrame::ray(double px, double py) const {
 namespace {
 
 constexpr int kRow = 8;  ///< rays per call of the vector code (an AVX-512 vector)
-using V8 = double __attribute__((vector_size(8 * kRow)));
-using M8 = std::int64_t __attribute__((vector_size(8 * kRow)));
-using U8 = std::uint64_t __attribute__((vector_size(8 * kRow)));
 
 /// The inputs of eight rays of a row (CameraFrame::clipped_row), and what they come to.
 struct Row8 {
@@ -74,74 +71,106 @@ struct Row8 {
     std::int64_t odd[kRow];  ///< nonzero: a lane the vectors do not take (redone one by one)
 };
 
-/// √ of the eight lanes of x, V::kWidth at a time (the vector instruction: correctly rounded, as
-/// std::sqrt), or one by one where there are no vectors.
-template <class V>
-[[gnu::always_inline]] inline V8 sqrt8(const V8& x) {
-    alignas(64) double a[kRow], s[kRow];
+/// GCC's generic vectors of W doubles, and of their bits as integers. W is the width of the
+/// copy's registers: wider vectors, and comparisons on AVX-512F without AVX512DQ, GCC 12 takes
+/// apart lane by lane (row8_avx512). (Spelled out per width: GCC drops vector_size on a type that
+/// depends on a template parameter.)
+template <int W>
+struct Lanes;
+template <>
+struct Lanes<2> {
+    using D = double __attribute__((vector_size(16)));
+    using I = std::int64_t __attribute__((vector_size(16)));
+    using U = std::uint64_t __attribute__((vector_size(16)));
+};
+template <>
+struct Lanes<4> {
+    using D = double __attribute__((vector_size(32)));
+    using I = std::int64_t __attribute__((vector_size(32)));
+    using U = std::uint64_t __attribute__((vector_size(32)));
+};
+template <>
+struct Lanes<8> {
+    using D = double __attribute__((vector_size(64)));
+    using I = std::int64_t __attribute__((vector_size(64)));
+    using U = std::uint64_t __attribute__((vector_size(64)));
+};
+static_assert(sizeof(Lanes<4>::D) == 32 && sizeof(Lanes<8>::I) == 64);
+
+/// √ of the W lanes of x: the vector instruction of V (correctly rounded, as std::sqrt), or one by
+/// one where there are no vectors.
+template <class V, int W>
+[[gnu::always_inline]] inline typename Lanes<W>::D sqrt_lanes(const typename Lanes<W>::D& x) {
+    alignas(64) double a[W], s[W];
     std::memcpy(a, &x, sizeof a);
 #if CERTRAY_BATCH_X86
-    for (int k = 0; k < kRow; k += V::kWidth) V::store(s + k, V::sqrt(V::load(a + k)));
+    static_assert(V::kWidth == W);
+    V::store(s, V::sqrt(V::load(a)));
 #else
-    for (int k = 0; k < kRow; ++k) s[k] = std::sqrt(a[k]);
+    for (int k = 0; k < W; ++k) s[k] = std::sqrt(a[k]);
 #endif
-    V8 r;
+    typename Lanes<W>::D r;
     std::memcpy(&r, s, sizeof r);
     return r;
 }
 
-/// CameraFrame::ray's direction and clip_ray's slabs for eight rays, with the scalar code's
-/// operations in its order (IEEE arithmetic: the same bits). A lane where a branch of the
+/// CameraFrame::ray's direction and clip_ray's slabs for eight rays, W at a time, with the scalar
+/// code's operations in its order (IEEE arithmetic: the same bits). A lane where a branch of the
 /// scalar code is not the common one (a zero length or direction component, a slab parameter
 /// outside step_up's integer range) is marked odd. V: the vector type of the √ (expr/batch_simd.h).
-template <class V>
+template <class V, int W>
 [[gnu::always_inline]] inline void row8_in(Row8& r) {
-    V8 u, x[3];
-    std::memcpy(&u, r.u, sizeof u);
-    const double* f = r.frame;
-    for (int c = 0; c < 3; ++c) x[c] = f[c] + u * f[3 + c] + r.v * f[6 + c];
-    const V8 n = sqrt8<V>(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-    M8 odd = ~(n > 0) | ~(n < std::numeric_limits<double>::infinity());  // masks: 0 or −1
-    const V8 inf = V8{} + std::numeric_limits<double>::infinity();
-    V8 t0 = V8{}, t1 = inf;
-    const U8 four = U8{} + 4;
+    using D = typename Lanes<W>::D;
+    using I = typename Lanes<W>::I;
+    using U = typename Lanes<W>::U;
     // |p| within [2⁻¹⁰⁰⁰, 2¹⁰⁰⁰] (step_up's integer range), compared as the bits of |p|, which
     // order the non-negative doubles as their values do and put NaN above +inf.
-    const M8 magnitude = M8{} + std::numeric_limits<std::int64_t>::max();
+    const I magnitude = I{} + std::numeric_limits<std::int64_t>::max();
     const std::int64_t small = std::bit_cast<std::int64_t>(0x1p-1000),
                        big = std::bit_cast<std::int64_t>(0x1p1000);
-    const auto out_of_range = [&](const V8& p) {
-        const M8 a = (M8)p & magnitude;  // a cast of vectors keeps the bits
+    const auto out_of_range = [&](const D& p) {
+        const I a = (I)p & magnitude;  // a cast of vectors keeps the bits
         return (a < small) | (a > big);
     };
-    for (int c = 0; c < 3; ++c) {
-        const V8 d = x[c] / n;
-        std::memcpy(r.d[c], &d, sizeof d);
-        odd |= d == 0;
-        V8 ta = (r.box[2 * c] - r.eye[c]) / d, tb = (r.box[2 * c + 1] - r.eye[c]) / d;
-        const M8 swap = ta > tb;
-        const V8 lo = swap ? tb : ta, hi = swap ? ta : tb;
-        odd |= out_of_range(lo) | out_of_range(hi);
-        // step_down(lo, 4) and step_up(hi, 4) in their integer range: 4 ulps away from 0 (up)
-        // or towards it, as the sign says.
-        const U8 blo = (U8)lo, bhi = (U8)hi;
-        const U8 slo = lo > 0 ? blo - four : blo + four;
-        const U8 shi = hi > 0 ? bhi + four : bhi - four;
-        ta = (V8)slo;
-        tb = (V8)shi;
-        t0 = t0 < ta ? ta : t0;  // std::max(t0, ta)
-        t1 = tb < t1 ? tb : t1;  // std::min(t1, tb)
+    const D inf = D{} + std::numeric_limits<double>::infinity();
+    const U four = U{} + 4;
+    const double* f = r.frame;
+    for (int k = 0; k < kRow; k += W) {
+        D u, x[3];
+        std::memcpy(&u, r.u + k, sizeof u);
+        for (int c = 0; c < 3; ++c) x[c] = f[c] + u * f[3 + c] + r.v * f[6 + c];
+        const D n = sqrt_lanes<V, W>(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+        I odd = ~(n > 0) | ~(n < inf);  // masks: 0 or −1
+        D t0 = D{}, t1 = inf;
+        for (int c = 0; c < 3; ++c) {
+            const D d = x[c] / n;
+            std::memcpy(r.d[c] + k, &d, sizeof d);
+            odd |= d == 0;
+            D ta = (r.box[2 * c] - r.eye[c]) / d, tb = (r.box[2 * c + 1] - r.eye[c]) / d;
+            const I swap = ta > tb;
+            const D lo = swap ? tb : ta, hi = swap ? ta : tb;
+            odd |= out_of_range(lo) | out_of_range(hi);
+            // step_down(lo, 4) and step_up(hi, 4) in their integer range: 4 ulps away from 0
+            // (up) or towards it, as the sign says.
+            const U blo = (U)lo, bhi = (U)hi;
+            const U slo = lo > 0 ? blo - four : blo + four;
+            const U shi = hi > 0 ? bhi + four : bhi - four;
+            ta = (D)slo;
+            tb = (D)shi;
+            t0 = t0 < ta ? ta : t0;  // std::max(t0, ta)
+            t1 = tb < t1 ? tb : t1;  // std::min(t1, tb)
+        }
+        std::memcpy(r.t0 + k, &t0, sizeof t0);
+        std::memcpy(r.t1 + k, &t1, sizeof t1);
+        std::memcpy(r.odd + k, &odd, sizeof odd);
     }
-    std::memcpy(r.t0, &t0, sizeof t0);
-    std::memcpy(r.t1, &t1, sizeof t1);
-    std::memcpy(r.odd, &odd, sizeof odd);
 }
 
 #if CERTRAY_BATCH_X86
 using expr::detail::Avx2;
 using expr::detail::Sse2;
-[[gnu::flatten]] void row8_baseline(Row8& r) { row8_in<Sse2>(r); }
-[[gnu::target("avx2"), gnu::flatten]] void row8_avx2(Row8& r) { row8_in<Avx2>(r); }
+[[gnu::flatten]] void row8_baseline(Row8& r) { row8_in<Sse2, 2>(r); }
+[[gnu::target("avx2"), gnu::flatten]] void row8_avx2(Row8& r) { row8_in<Avx2, 4>(r); }
 
 /// row8_in in AVX-512F's own terms: its comparisons give mask registers, which GCC 12 cannot
 /// turn into row8_in's vectors of masks without AVX512DQ (it took each lane apart: 5.8% of the
@@ -214,7 +243,7 @@ void row8(Row8& r) {
     }
     row8_baseline(r);
 #else
-    row8_in<void>(r);
+    row8_in<void, kRow>(r);
 #endif
 }
 
