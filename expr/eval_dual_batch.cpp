@@ -77,6 +77,7 @@ template <class V>
     constexpr int W = static_cast<int>(sizeof(V) / sizeof(double));
     alignas(64) double d[L] = {};    // lanes from n on stay 0 where libm fills only n
     const int nc = (n + W - 1) / W;  // vectors of lanes; lanes from n on are computed, never read
+    const int nc4 = nc * (W / 4);    // the same lanes in vectors of four
     for (; in != end; ++in) {
         DualLanes& o = r[in->out];
         const int k_ary = arity(in->op);
@@ -186,30 +187,32 @@ template <class V>
                     }
                 }
                 break;
+            // The selects in vectors of four lanes: on AVX-512F without AVX512DQ, GCC 12 takes a
+            // comparison of eight lanes apart lane by lane (tracers/camera.cpp's row8_avx512).
             case Op::Min:  // certray::min's value; g's partials where g < f, else f's
             case Op::Max:  // certray::max's value; g's partials where f < g, else f's
-                for (int c = 0; c < nc; ++c) {
-                    const V x = vec<V>(a.v)[c], y = vec<V>(b.v)[c];
+                for (int c = 0; c < nc4; ++c) {
+                    const V4 x = vec<V4>(a.v)[c], y = vec<V4>(b.v)[c];
                     const bool lower = in->op == Op::Min;
                     // (x < y or x NaN) ? x : y for min, (x > y or x NaN) ? x : y for max.
                     const auto keep_x = (lower ? x < y : x > y) | (x != x);
-                    vec<V>(o.v)[c] = keep_x ? x : y;
+                    vec<V4>(o.v)[c] = keep_x ? x : y;
                     const auto take_y = lower ? y < x : x < y;
                     for (int i = 0; i < 3; ++i) {
-                        vec<V>(o.g[i])[c] = take_y ? vec<V>(b.g[i])[c] : vec<V>(a.g[i])[c];
+                        vec<V4>(o.g[i])[c] = take_y ? vec<V4>(b.g[i])[c] : vec<V4>(a.g[i])[c];
                     }
                 }
                 break;
             case Op::Abs:  // |f|, −f' where f < 0, else f' (at 0: the right-hand branch)
-                for (int c = 0; c < nc; ++c) {
-                    const V x = vec<V>(a.v)[c];
+                for (int c = 0; c < nc4; ++c) {
+                    const V4 x = vec<V4>(a.v)[c];
                     const auto negative = x < 0.0;
                     // fabs: the sign bit cleared (−0 → +0).
                     using VI = decltype(negative);  // the lanes' bits as integers
-                    vec<V>(o.v)[c] =
-                        reinterpret_cast<V>(reinterpret_cast<VI>(x) & 0x7fffffffffffffffLL);
+                    vec<V4>(o.v)[c] =
+                        reinterpret_cast<V4>(reinterpret_cast<VI>(x) & 0x7fffffffffffffffLL);
                     for (int i = 0; i < 3; ++i) {
-                        vec<V>(o.g[i])[c] = negative ? -vec<V>(a.g[i])[c] : vec<V>(a.g[i])[c];
+                        vec<V4>(o.g[i])[c] = negative ? -vec<V4>(a.g[i])[c] : vec<V4>(a.g[i])[c];
                     }
                 }
                 break;
