@@ -139,6 +139,31 @@ template <class V>
                     }
                 }
                 break;
+            case Op::Pow: {  // chain(fⁿ, n·fⁿ⁻¹), f⁰ = 1 with zero partials; number.h's pow
+                const unsigned e = in->b;
+                const auto power = [](V x, unsigned k) {  // binary powering, as pow(double, k)
+                    V y = V{} + 1.0;
+                    for (; k != 0; k >>= 1u) {
+                        if ((k & 1u) != 0) y = y * x;
+                        x = x * x;
+                    }
+                    return y;
+                };
+                if (e == 0) {
+                    for (int c = 0; c < nc; ++c) vec<V>(o.v)[c] = V{} + 1.0;
+                    for (int i = 0; i < 3; ++i) {
+                        for (int c = 0; c < nc; ++c) vec<V>(o.g[i])[c] = V{};
+                    }
+                    break;
+                }
+                for (int c = 0; c < nc; ++c) {
+                    const V x = vec<V>(a.v)[c];
+                    vec<V>(d)[c] = static_cast<double>(e) * power(x, e - 1);
+                    vec<V>(o.v)[c] = power(x, e);
+                }
+                chain<V>(d, a, o, nc);
+                break;
+            }
             case Op::Square:  // chain(f², 2·f)
                 for (int c = 0; c < nc; ++c) {
                     vec<V>(o.v)[c] = vec<V>(a.v)[c] * vec<V>(a.v)[c];

@@ -120,16 +120,22 @@ TEST(DualBatch, EveryOpOnEveryPairOfSpecialValues) {
     for (int code = 0; code < kOpCount; ++code) {
         const Op op = static_cast<Op>(code);
         if (arity(op) == 0) continue;
-        // x, y, then one op reading x·y and y (so that both operands carry partials).
-        std::vector<Instr> list = {{Op::VarX, 0, 0, 0, 0.0},
-                                   {Op::VarY, 1, 0, 0, 0.0},
-                                   {Op::Mul, 2, 0, 1, 0.0},
-                                   {op, 3, 2, op == Op::Pow ? 3u : 1u, 0.0}};
-        for (std::size_t k = 0; k < all.size(); k += kDualLanes) {
-            const Points chunk(
-                all.begin() + static_cast<std::ptrdiff_t>(k),
-                all.begin() + static_cast<std::ptrdiff_t>(std::min(all.size(), k + kDualLanes)));
-            EXPECT_EQ(mismatch(list, chunk), "") << name(op);
+        // x, y, then one op reading x·y and y (so that both operands carry partials); Pow with
+        // exponents 0 … 5, 16 and 31 (its vector loop's zero, odd, even and long chains).
+        const std::vector<std::uint32_t> exponents =
+            op == Op::Pow ? std::vector<std::uint32_t>{0, 1, 2, 3, 4, 5, 16, 31}
+                          : std::vector<std::uint32_t>{1};
+        for (const std::uint32_t e : exponents) {
+            std::vector<Instr> list = {{Op::VarX, 0, 0, 0, 0.0},
+                                       {Op::VarY, 1, 0, 0, 0.0},
+                                       {Op::Mul, 2, 0, 1, 0.0},
+                                       {op, 3, 2, e, 0.0}};
+            for (std::size_t k = 0; k < all.size(); k += kDualLanes) {
+                const Points chunk(all.begin() + static_cast<std::ptrdiff_t>(k),
+                                   all.begin() + static_cast<std::ptrdiff_t>(
+                                                     std::min(all.size(), k + kDualLanes)));
+                EXPECT_EQ(mismatch(list, chunk), "") << name(op) << " " << e;
+            }
         }
     }
 }
