@@ -139,7 +139,9 @@ struct CoherentOptions {
     /// width as boxes over all its rays (one lane each): a piece proven free there is free on
     /// every ray, and a ray whose first piece not proven free is followed by one proven inside
     /// (solid), or lies between pieces of strict opposite signs (zero set), is answered without
-    /// pieces of its own. Off: each ray's own pieces only.
+    /// pieces of its own. Not on a smooth list where the segment forms run (they decide per ray
+    /// what the tile pieces would: Barth 0.985 of the instructions; docs/theory/coherent.md).
+    /// Off: each ray's own pieces only.
     bool tile_pieces = true;
     /// Scans of rays on a smooth list (a tangent list without kinks, expr/tangent.h, of at least
     /// 8 instructions), or on a list with kinks that fold_lists folded (Clarke's derivative at the

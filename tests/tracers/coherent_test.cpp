@@ -296,10 +296,12 @@ TEST(Coherent, TilePiecesAnswerFlatFacesWithTheRootOfMathematics) {
     // plane is proven inside, or the pieces either side have strict opposite signs; where the
     // plane crosses a piece's end inside a tile, its rays are scanned alone); every Hit
     // holds t, zero set and solid, with and without them, at 32² and 128². With the lines of
-    // the node forms (clip_forms), which narrow a node to the plane before its scan, too.
+    // the node forms (clip_forms), which narrow a node to the plane before its scan, too. The
+    // plane's list is smooth: with the segments' forms on (the default), the tile pieces yield to
+    // them (Walker::tile_pieces_for) and are never tried; variants 0 and 2 turn the forms off.
     const expr::Tape tape(expr::parse_expr("z - 0.3 - 0.05*x + 0.02*y"));
     for (Surface surface : {Surface::Solid, Surface::Zero}) {
-        for (int variant : {0, 1, 2}) {  // tiles; no tiles; tiles and lines
+        for (int variant : {0, 1, 2, 3}) {  // tiles; no tiles; tiles and lines; the defaults
             const bool tiles = variant != 1;
             for (unsigned side : {32u, 128u}) {
                 CoherentOptions o;
@@ -311,7 +313,8 @@ TEST(Coherent, TilePiecesAnswerFlatFacesWithTheRootOfMathematics) {
                 o.certified = image_solver_options();
                 o.depth_pixels = 0.5;
                 o.tile_pieces = tiles;
-                o.clip_forms = variant == 2;
+                o.clip_forms = variant >= 2;
+                o.segment_forms = variant == 3;
                 CoherentStats stats;
                 std::vector<RayResult> results;
                 const RenderResult r = render_3d_coherent(tape, o, &stats, &results);
@@ -319,7 +322,7 @@ TEST(Coherent, TilePiecesAnswerFlatFacesWithTheRootOfMathematics) {
                 const std::string where =
                     std::string(surface == Surface::Solid ? "solid" : "zero") +
                     (tiles ? " tiles " : " no tiles ") + (o.clip_forms ? "lines " : "") +
-                    std::to_string(side);
+                    (o.segment_forms ? "forms " : "") + std::to_string(side);
                 ASSERT_EQ(r.stats.hit, std::size_t{side} * side) << where;
                 for (std::size_t k = 0; k < results.size(); ++k) {
                     Ray ray;
@@ -337,8 +340,10 @@ TEST(Coherent, TilePiecesAnswerFlatFacesWithTheRootOfMathematics) {
                     EXPECT_GE(stats.tile_decided, std::size_t{side} * side / 4) << where;
                 } else if (variant == 1) {
                     EXPECT_EQ(stats.tile_pieces, 0u) << where;
-                } else {
+                } else if (variant == 2) {
                     EXPECT_GT(stats.clipped, 0u) << where;
+                } else {
+                    EXPECT_EQ(stats.tile_pieces, 0u) << where;  // the forms decide instead
                 }
             }
         }
