@@ -141,14 +141,6 @@ template <class V>
                 break;
             case Op::Pow: {  // chain(fⁿ, n·fⁿ⁻¹), f⁰ = 1 with zero partials; number.h's pow
                 const unsigned e = in->b;
-                const auto power = [](V x, unsigned k) {  // binary powering, as pow(double, k)
-                    V y = V{} + 1.0;
-                    for (; k != 0; k >>= 1u) {
-                        if ((k & 1u) != 0) y = y * x;
-                        x = x * x;
-                    }
-                    return y;
-                };
                 if (e == 0) {
                     for (int c = 0; c < nc; ++c) vec<V>(o.v)[c] = V{} + 1.0;
                     for (int i = 0; i < 3; ++i) {
@@ -158,8 +150,8 @@ template <class V>
                 }
                 for (int c = 0; c < nc; ++c) {
                     const V x = vec<V>(a.v)[c];
-                    vec<V>(d)[c] = static_cast<double>(e) * power(x, e - 1);
-                    vec<V>(o.v)[c] = power(x, e);
+                    vec<V>(d)[c] = static_cast<double>(e) * binary_power(x, e - 1);
+                    vec<V>(o.v)[c] = binary_power(x, e);
                 }
                 chain<V>(d, a, o, nc);
                 break;

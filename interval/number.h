@@ -34,16 +34,21 @@ inline double min(double a, double b) { return (a < b || std::isnan(a)) ? a : b;
 inline double max(double a, double b) { return (a > b || std::isnan(a)) ? a : b; }
 /// x² for doubles (one rounding, like x * x).
 inline double square(double x) { return x * x; }
-/// xⁿ for doubles by binary powering (n a non-negative integer; pow(x, 0) = 1).
-inline double pow(double x, unsigned n) {
-    double r = 1.0;
+/// xⁿ by binary powering (n a non-negative integer; x⁰ = 1) for a double or a GCC vector of
+/// doubles, lane by lane: the same products in the same order (expr/eval_dual_batch.cpp's lanes
+/// are pow's bits so).
+template <class T>
+inline T binary_power(T x, unsigned n) {
+    T r = T{} + 1.0;
     while (n) {
-        if (n & 1u) r *= x;
-        x *= x;
+        if (n & 1u) r = r * x;
+        x = x * x;
         n >>= 1u;
     }
     return r;
 }
+/// xⁿ for doubles by binary powering (n a non-negative integer; pow(x, 0) = 1).
+inline double pow(double x, unsigned n) { return binary_power(x, n); }
 /// Fidget's compare: −1 if a < b, 0 if a = b, 1 if a > b, NaN if either is NaN.
 inline double compare(double a, double b) {
     return a < b ? -1.0 : (a > b ? 1.0 : (a == b ? 0.0 : std::numeric_limits<double>::quiet_NaN()));

@@ -188,8 +188,8 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
     // One node's only (several share no hull; they are scanned together only while the tile
     // pieces do not pay, split_screen()).
     int tiles = 0;
-    if (count == 1 && groups[0].hull->count >= 2 &&
-        tile_pieces_for(list, lane_tangent_kind(list, depth, level)) && tile_trial_.attempt()) {
+    if (count == 1 && groups[0].hull->count >= 2 && tile_pieces_for(list, depth, &level) &&
+        tile_trial_.attempt()) {
         const Hull& hull = *groups[0].hull;
         const Ray span{{}, {}, groups[0].a, groups[0].b};
         tiles = pieces_of(span, w_tile);

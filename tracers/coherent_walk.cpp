@@ -439,7 +439,7 @@ void Walker::split_screen(const Rect& r, double a, double b, const Ssa& list,
     // the scan is one walk for all of them where it was one per quarter.
     unsigned merged = 0;
     if (options_.merged_scans && !keep_values && m >= 2 &&
-        !(tile_pieces_for(list, tangent_kind(list, depth)) && tile_trial_.paying())) {
+        !(tile_pieces_for(list, depth, nullptr) && tile_trial_.paying())) {
         ScanGroup groups[4];
         int of[4];
         int g = 0;

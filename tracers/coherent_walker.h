@@ -477,16 +477,19 @@ class Walker {
     /// of the node free, or spared four vectors' worth of pieces): the first 4, then while one
     /// try in four wins, else one in 16.
     PayingTrial<4, 16> tile_trial_;
-    /// Whether a scan of `list` (of tangent kind `kind`, as its segment forms read it) takes tile
-    /// pieces, and so whether their trial holds back merged scans: not where the segments' forms
-    /// run on a smooth list, which decide per ray what the tile pieces would decide per node (the
-    /// trial's tries and the merged scans it held back: the sphere, the torus, Barth, the
-    /// tanglecube and Chmutov's heightmap 0.97–0.99 of the time without them; docs/benchmarks.md,
-    /// session 26). Kinked lists keep them (the colonnade's heightmap 1.25× without).
-    bool tile_pieces_for(const Ssa& list, expr::TangentKind kind) const {
-        return options_.tile_pieces &&
-               !(options_.segment_forms && list.size() >= kSegmentFormList &&
-                 kind == expr::TangentKind::Smooth);
+    /// Whether a scan of `list` takes tile pieces, and so whether their trial holds back merged
+    /// scans: not where the segments' forms run on a smooth list (its tangent kind as the forms
+    /// read it: folded to `scanned`'s box where that level folded it, else the list's own), which
+    /// decide per ray what the tile pieces would decide per node (the trial's tries and the merged
+    /// scans it held back: the sphere, the torus, Barth, the tanglecube and Chmutov's heightmap
+    /// 0.97–0.99 of the time without them; docs/benchmarks.md, session 26). Kinked lists keep them
+    /// (the colonnade's heightmap 1.25× without). The kind is asked for only where it decides.
+    bool tile_pieces_for(const Ssa& list, unsigned depth, Level* scanned) {
+        if (!options_.tile_pieces) return false;
+        if (!options_.segment_forms || list.size() < kSegmentFormList) return true;
+        const expr::TangentKind kind = scanned != nullptr ? lane_tangent_kind(list, depth, *scanned)
+                                                          : tangent_kind(list, depth);
+        return kind != expr::TangentKind::Smooth;
     }
     /// This root tile's mean value forms in lanes on lists with kinks (scan_together; a win: they
     /// proved at least half the pieces they were taken on): the first 4, then one in 16 (the
