@@ -1,6 +1,7 @@
 // expr/batch_simd.h — internal to the batch walks (eval_batch.cpp, and through
-// expr/interval_batch_simd.h eval_interval_batch.cpp) and the camera's rows of rays
-// (tracers/camera.cpp, its √): one vector type per instruction set, and libm lane by lane.
+// expr/interval_batch_simd.h eval_interval_batch.cpp), the camera's rows of rays
+// (tracers/camera.cpp, its √) and the coherent walk's normals (tracers/coherent_walk.cpp, their
+// √ and ÷): one vector type per instruction set, and libm lane by lane.
 //
 // Contract: each type gives R (a register of kWidth doubles), load/store (unaligned), set1, the
 // IEEE arithmetic, neg (sign flip), abs (sign clear), and min/max with certray's rule, each lane

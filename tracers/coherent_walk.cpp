@@ -5,13 +5,76 @@
 #include <cmath>
 #include <limits>
 
+#include "expr/batch_simd.h"
 #include "expr/derived.h"
 #include "expr/eval.h"
+#include "expr/eval_batch.h"
 #include "expr/eval_dual_batch.h"
 #include "tracers/coherent_walker.h"
 
 namespace certray::tracers::detail::coherent {
 namespace {
+
+/// The arithmetic of set_normal on kDualLanes gradients g at once (the lanes past the hits' are
+/// computed and not read): each lane's |g| = √(gx·gx + gy·gy + gz·gz), u = g / |g| and u·d, the
+/// same IEEE operations in the same order as camera.h's normalize and dot (no contraction: the
+/// build's -ffp-contract=off), so every lane is bit for bit the scalar's. V: a vector type of
+/// expr/batch_simd.h.
+struct NormalLanes {
+    alignas(64) double d[3][expr::kDualLanes];    ///< the rays' directions
+    alignas(64) double u[3][expr::kDualLanes];    ///< g / |g|
+    alignas(64) double len[expr::kDualLanes];     ///< |g|
+    alignas(64) double facing[expr::kDualLanes];  ///< u·d
+};
+
+template <class V>
+[[gnu::always_inline]] inline void normal_lanes_in(const expr::DualLanes& f, NormalLanes& n) {
+    static_assert(expr::kDualLanes % V::kWidth == 0);
+    for (int k = 0; k < expr::kDualLanes; k += V::kWidth) {
+        const typename V::R x = V::load(f.g[0] + k), y = V::load(f.g[1] + k),
+                            z = V::load(f.g[2] + k);
+        const typename V::R len = V::sqrt(V::add(V::add(V::mul(x, x), V::mul(y, y)), V::mul(z, z)));
+        const typename V::R ux = V::div(x, len), uy = V::div(y, len), uz = V::div(z, len);
+        V::store(n.len + k, len);
+        V::store(n.u[0] + k, ux);
+        V::store(n.u[1] + k, uy);
+        V::store(n.u[2] + k, uz);
+        V::store(n.facing + k,
+                 V::add(V::add(V::mul(ux, V::load(n.d[0] + k)), V::mul(uy, V::load(n.d[1] + k))),
+                        V::mul(uz, V::load(n.d[2] + k))));
+    }
+}
+
+#if CERTRAY_BATCH_X86
+[[gnu::flatten]] void normal_lanes_baseline(const expr::DualLanes& f, NormalLanes& n) {
+    normal_lanes_in<expr::detail::Sse2>(f, n);
+}
+[[gnu::target("avx2"), gnu::flatten]] void normal_lanes_avx2(const expr::DualLanes& f,
+                                                             NormalLanes& n) {
+    normal_lanes_in<expr::detail::Avx2>(f, n);
+}
+[[gnu::target("avx512f"), gnu::flatten]] void normal_lanes_avx512(const expr::DualLanes& f,
+                                                                  NormalLanes& n) {
+    normal_lanes_in<expr::detail::Avx512>(f, n);
+}
+#endif
+
+/// normal_lanes_in on the instruction set of the batch walks (expr::batch_isa()).
+void normal_lanes(const expr::DualLanes& f, NormalLanes& n) {
+#if CERTRAY_BATCH_X86
+    switch (expr::batch_isa()) {
+        case expr::BatchIsa::Avx512:
+            return normal_lanes_avx512(f, n);
+        case expr::BatchIsa::Avx2:
+            return normal_lanes_avx2(f, n);
+        case expr::BatchIsa::Baseline:
+            break;
+    }
+    normal_lanes_baseline(f, n);
+#else
+    normal_lanes_in<expr::detail::Scalar>(f, n);
+#endif
+}
 
 /// Whether [a, b] can be halved: its middle, as the walk takes it, lies strictly inside.
 bool splittable(double a, double b) {
@@ -641,8 +704,22 @@ void Walker::flush_normals() {
         expr::run_dual_batch(list.data(), list.data() + list.size(), pending_q_, pending_,
                              dual_regs_.data());
         const expr::DualLanes& f = dual_regs_[list.back().out];
+        // set_normal's arithmetic in vectors (its square roots and divisions were 5% of Barth's
+        // heightmap), then its tests lane by lane.
+        NormalLanes n;
+        for (int k = 0; k < expr::kDualLanes; ++k) {
+            const Vec3& d = pending_ray_[k < pending_ ? k : 0]->d;
+            for (int c = 0; c < 3; ++c) n.d[c][k] = d[c];
+        }
+        normal_lanes(f, n);
         for (int k = 0; k < pending_; ++k) {
-            set_normal(pending_px_[k], {f.g[0][k], f.g[1][k], f.g[2][k]}, pending_ray_[k]->d);
+            Vec3 u{0, 0, 0};  // normalize's answer where |g| is 0, NaN or infinite
+            if (n.len[k] > 0 && std::isfinite(n.len[k])) {
+                u = {n.u[0][k], n.u[1][k], n.u[2][k]};
+                if (n.facing[k] > 0) u = {-u[0], -u[1], -u[2]};
+            }
+            mine_.normal[pending_px_[k]] = {static_cast<float>(u[0]), static_cast<float>(u[1]),
+                                            static_cast<float>(u[2])};
         }
     }
     pending_ = 0;

@@ -29,6 +29,7 @@
 #include "expr/tape.h"
 #include "solvers/certified.h"
 #include "solvers/solid.h"
+#include "tests/support/batch_isa.h"
 #include "tests/support/fp_env.h"
 #include "tests/support/generators.h"
 #include "tests/support/random_dag.h"
@@ -1146,42 +1147,48 @@ TEST(Coherent, ImageAndCountsAreThoseOfTheAnswers) {
 /// normalised in round-to-nearest), facing the ray, bit for bit; with batch_normals (a scan's hits
 /// in one walk of Dual lanes) and without. (They come from the pruned lists, whose pruning once
 /// folded a heightmap ray's x and y, points on its box, into constants without derivatives.)
-/// The solid surface's boxes proven inside answer their rays at once; their normals too.
+/// The solid surface's boxes proven inside answer their rays at once; their normals too. A
+/// batch's normalisations run in vectors: each copy of that code (expr::batch_isa()) is checked.
 TEST(Coherent, HitNormalsAreRender3dNormalsBatchedOrNot) {
     std::size_t hits = 0, boxes_inside = 0;
-    for (const fs::path& scene : gallery()) {
-        const expr::Tape tape(expr::load_graph_file(scene.string()));
-        for (auto [p, surface] : {std::pair{Projection::Pinhole, Surface::Zero},
-                                  std::pair{Projection::Ortho, Surface::Zero},
-                                  std::pair{Projection::Ortho, Surface::Solid}}) {
-            for (bool batch : {true, false}) {
-                CoherentOptions o = small_view(p);
-                o.surface = surface;
-                o.depth_pixels = 0.5;  // scans of rays in lanes, as the CLI's images
-                o.batch_normals = batch;
-                CoherentStats stats;
-                const RenderResult r = render_3d_coherent(tape, o, &stats);
-                boxes_inside += stats.boxes_inside;
-                const PixelRays rays(o);
-                std::size_t k = 0;
-                for (unsigned j = 0; j < o.render.height; ++j) {
-                    for (unsigned i = 0; i < o.render.width; ++i, ++k) {
-                        if (r.answers.status[k] != Status::Hit) continue;
-                        ++hits;
-                        Ray ray;
-                        ASSERT_TRUE(rays.ray(i, j, ray));
-                        const double t = r.answers.t[k];
-                        const Vec3 q{ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1],
-                                     ray.o[2] + t * ray.d[2]};
-                        const Dual<double, 3> g = expr::gradient(tape, q);
-                        Vec3 want = normalize({g.v[0], g.v[1], g.v[2]});
-                        if (dot(want, ray.d) > 0) want = {-want[0], -want[1], -want[2]};
-                        for (int c = 0; c < 3; ++c) {
-                            EXPECT_EQ(std::bit_cast<std::uint32_t>(r.answers.normal[k][c]),
-                                      std::bit_cast<std::uint32_t>(static_cast<float>(want[c])))
-                                << scene << (batch ? " batched" : "")
-                                << (surface == Surface::Solid ? " solid" : "") << " pixel (" << i
-                                << ", " << j << ") component " << c;
+    testing::BatchIsaGuard guard;
+    for (const expr::BatchIsa isa : testing::batch_isas()) {
+        expr::set_batch_isa(isa);
+        SCOPED_TRACE(expr::batch_isa_name(isa));
+        for (const fs::path& scene : gallery()) {
+            const expr::Tape tape(expr::load_graph_file(scene.string()));
+            for (auto [p, surface] : {std::pair{Projection::Pinhole, Surface::Zero},
+                                      std::pair{Projection::Ortho, Surface::Zero},
+                                      std::pair{Projection::Ortho, Surface::Solid}}) {
+                for (bool batch : {true, false}) {
+                    CoherentOptions o = small_view(p);
+                    o.surface = surface;
+                    o.depth_pixels = 0.5;  // scans of rays in lanes, as the CLI's images
+                    o.batch_normals = batch;
+                    CoherentStats stats;
+                    const RenderResult r = render_3d_coherent(tape, o, &stats);
+                    boxes_inside += stats.boxes_inside;
+                    const PixelRays rays(o);
+                    std::size_t k = 0;
+                    for (unsigned j = 0; j < o.render.height; ++j) {
+                        for (unsigned i = 0; i < o.render.width; ++i, ++k) {
+                            if (r.answers.status[k] != Status::Hit) continue;
+                            ++hits;
+                            Ray ray;
+                            ASSERT_TRUE(rays.ray(i, j, ray));
+                            const double t = r.answers.t[k];
+                            const Vec3 q{ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1],
+                                         ray.o[2] + t * ray.d[2]};
+                            const Dual<double, 3> g = expr::gradient(tape, q);
+                            Vec3 want = normalize({g.v[0], g.v[1], g.v[2]});
+                            if (dot(want, ray.d) > 0) want = {-want[0], -want[1], -want[2]};
+                            for (int c = 0; c < 3; ++c) {
+                                EXPECT_EQ(std::bit_cast<std::uint32_t>(r.answers.normal[k][c]),
+                                          std::bit_cast<std::uint32_t>(static_cast<float>(want[c])))
+                                    << scene << (batch ? " batched" : "")
+                                    << (surface == Surface::Solid ? " solid" : "") << " pixel ("
+                                    << i << ", " << j << ") component " << c;
+                            }
                         }
                     }
                 }
