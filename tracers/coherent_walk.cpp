@@ -681,8 +681,12 @@ Dual<double, 3> Walker::list_gradient(const Ssa& list, const Vec3& q) {
 }
 
 void Walker::set_normal(std::size_t k, const Vec3& g, const Vec3& d) {  // in round-to-nearest
-    Vec3 n = normalize(g);
-    if (dot(n, d) > 0) n = {-n[0], -n[1], -n[2]};
+    const Vec3 n = normalize(g);
+    store_normal(k, n, dot(n, d));
+}
+
+void Walker::store_normal(std::size_t k, Vec3 n, double facing) {
+    if (facing > 0) n = {-n[0], -n[1], -n[2]};
     mine_.normal[k] = {static_cast<float>(n[0]), static_cast<float>(n[1]),
                        static_cast<float>(n[2])};
 }
@@ -713,13 +717,12 @@ void Walker::flush_normals() {
         }
         normal_lanes(f, n);
         for (int k = 0; k < pending_; ++k) {
-            Vec3 u{0, 0, 0};  // normalize's answer where |g| is 0, NaN or infinite
+            // normalize's test: where |g| is 0, NaN or infinite the normal is 0 (facing nothing).
             if (n.len[k] > 0 && std::isfinite(n.len[k])) {
-                u = {n.u[0][k], n.u[1][k], n.u[2][k]};
-                if (n.facing[k] > 0) u = {-u[0], -u[1], -u[2]};
+                store_normal(pending_px_[k], {n.u[0][k], n.u[1][k], n.u[2][k]}, n.facing[k]);
+            } else {
+                store_normal(pending_px_[k], {0, 0, 0}, 0);
             }
-            mine_.normal[pending_px_[k]] = {static_cast<float>(u[0]), static_cast<float>(u[1]),
-                                            static_cast<float>(u[2])};
         }
     }
     pending_ = 0;

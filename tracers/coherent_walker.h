@@ -453,6 +453,10 @@ class Walker {
     /// Writes the normal of the root tile's pixel in slot k from the gradient g, turned to face the
     /// ray's direction d (in round-to-nearest).
     void set_normal(std::size_t k, const Vec3& g, const Vec3& d);
+    /// Writes the normal of the pixel in slot k: the unit vector n (or 0), turned where its dot
+    /// product with the ray's direction, `facing`, is positive (set_normal's last step, which
+    /// flush_normals() takes after its vectors' arithmetic).
+    void store_normal(std::size_t k, Vec3 n, double facing);
     /// o + t·d, where a hit's normal is taken (in round-to-nearest, as render_3d takes it).
     static Vec3 point_at(const Ray& ray, double t) {
         return {ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1], ray.o[2] + t * ray.d[2]};

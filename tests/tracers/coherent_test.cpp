@@ -1151,10 +1151,37 @@ TEST(Coherent, ImageAndCountsAreThoseOfTheAnswers) {
 /// batch's normalisations run in vectors: each copy of that code (expr::batch_isa()) is checked.
 TEST(Coherent, HitNormalsAreRender3dNormalsBatchedOrNot) {
     std::size_t hits = 0, boxes_inside = 0;
+    // Every Hit of one render against the gradient of the full tape at its t.
+    const auto check = [&](const expr::Tape& tape, const CoherentOptions& o,
+                           const std::string& where) {
+        CoherentStats stats;
+        const RenderResult r = render_3d_coherent(tape, o, &stats);
+        boxes_inside += stats.boxes_inside;
+        const PixelRays rays(o);
+        std::size_t k = 0;
+        for (unsigned j = 0; j < o.render.height; ++j) {
+            for (unsigned i = 0; i < o.render.width; ++i, ++k) {
+                if (r.answers.status[k] != Status::Hit) continue;
+                ++hits;
+                Ray ray;
+                ASSERT_TRUE(rays.ray(i, j, ray));
+                const double t = r.answers.t[k];
+                const Vec3 q{ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1],
+                             ray.o[2] + t * ray.d[2]};
+                const Dual<double, 3> g = expr::gradient(tape, q);
+                Vec3 want = normalize({g.v[0], g.v[1], g.v[2]});
+                if (dot(want, ray.d) > 0) want = {-want[0], -want[1], -want[2]};
+                for (int c = 0; c < 3; ++c) {
+                    EXPECT_EQ(std::bit_cast<std::uint32_t>(r.answers.normal[k][c]),
+                              std::bit_cast<std::uint32_t>(static_cast<float>(want[c])))
+                        << where << " pixel (" << i << ", " << j << ") component " << c;
+                }
+            }
+        }
+    };
     testing::BatchIsaGuard guard;
     for (const expr::BatchIsa isa : testing::batch_isas()) {
         expr::set_batch_isa(isa);
-        SCOPED_TRACE(expr::batch_isa_name(isa));
         for (const fs::path& scene : gallery()) {
             const expr::Tape tape(expr::load_graph_file(scene.string()));
             for (auto [p, surface] : {std::pair{Projection::Pinhole, Surface::Zero},
@@ -1165,38 +1192,47 @@ TEST(Coherent, HitNormalsAreRender3dNormalsBatchedOrNot) {
                     o.surface = surface;
                     o.depth_pixels = 0.5;  // scans of rays in lanes, as the CLI's images
                     o.batch_normals = batch;
-                    CoherentStats stats;
-                    const RenderResult r = render_3d_coherent(tape, o, &stats);
-                    boxes_inside += stats.boxes_inside;
-                    const PixelRays rays(o);
-                    std::size_t k = 0;
-                    for (unsigned j = 0; j < o.render.height; ++j) {
-                        for (unsigned i = 0; i < o.render.width; ++i, ++k) {
-                            if (r.answers.status[k] != Status::Hit) continue;
-                            ++hits;
-                            Ray ray;
-                            ASSERT_TRUE(rays.ray(i, j, ray));
-                            const double t = r.answers.t[k];
-                            const Vec3 q{ray.o[0] + t * ray.d[0], ray.o[1] + t * ray.d[1],
-                                         ray.o[2] + t * ray.d[2]};
-                            const Dual<double, 3> g = expr::gradient(tape, q);
-                            Vec3 want = normalize({g.v[0], g.v[1], g.v[2]});
-                            if (dot(want, ray.d) > 0) want = {-want[0], -want[1], -want[2]};
-                            for (int c = 0; c < 3; ++c) {
-                                EXPECT_EQ(std::bit_cast<std::uint32_t>(r.answers.normal[k][c]),
-                                          std::bit_cast<std::uint32_t>(static_cast<float>(want[c])))
-                                    << scene << (batch ? " batched" : "")
-                                    << (surface == Surface::Solid ? " solid" : "") << " pixel ("
-                                    << i << ", " << j << ") component " << c;
-                            }
-                        }
-                    }
+                    check(tape, o,
+                          scene.string() + " " + expr::batch_isa_name(isa) +
+                              (batch ? " batched" : "") +
+                              (surface == Surface::Solid ? " solid" : ""));
                 }
             }
         }
     }
     EXPECT_GT(hits, 1000u);
     EXPECT_GT(boxes_inside, 100u);
+}
+
+/// Where the gradient at a hit is 0, its normal is normalize's answer, (+0, +0, +0), turned to
+/// face nothing: f = (x − x) − 1 < 0 everywhere, so the solid is entered at every ray's first
+/// point, where ∇f = (1 − 1, 0, 0) = 0 exactly; batched or not, on every instruction set.
+TEST(Coherent, ZeroGradientsGiveTheZeroNormal) {
+    const expr::Tape tape(expr::parse_expr("(x - x) - 1"));
+    testing::BatchIsaGuard guard;
+    for (const expr::BatchIsa isa : testing::batch_isas()) {
+        expr::set_batch_isa(isa);
+        for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
+            for (bool batch : {true, false}) {
+                CoherentOptions o = small_view(p);
+                o.surface = Surface::Solid;
+                o.depth_pixels = 0.5;
+                o.batch_normals = batch;
+                const RenderResult r = render_3d_coherent(tape, o);
+                const std::string where = std::string(expr::batch_isa_name(isa)) +
+                                          (p == Projection::Ortho ? " ortho" : " pinhole") +
+                                          (batch ? " batched" : "");
+                ASSERT_GT(r.stats.hit, 0u) << where;
+                for (std::size_t k = 0; k < r.answers.status.size(); ++k) {
+                    if (r.answers.status[k] != Status::Hit) continue;
+                    for (int c = 0; c < 3; ++c) {
+                        EXPECT_EQ(std::bit_cast<std::uint32_t>(r.answers.normal[k][c]), 0u)
+                            << where << " pixel " << k << " component " << c;
+                    }
+                }
+            }
+        }
+    }
 }
 
 TEST(Coherent, OrthoRaysAreTheHeightmapRays) {
