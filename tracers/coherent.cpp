@@ -232,6 +232,7 @@ RenderResult render_3d_coherent(const expr::Tape& tape, const CoherentOptions& o
         total.quarter_pieces += s.quarter_pieces;
         total.wide_forms += s.wide_forms;
         total.segment_forms += s.segment_forms;
+        total.coarse_deferred += s.coarse_deferred;
         total.monotone_segments += s.monotone_segments;
         total.newton_brackets += s.newton_brackets;
         total.merged_scans += s.merged_scans;

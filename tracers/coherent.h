@@ -151,6 +151,22 @@ struct CoherentOptions {
     /// such scan (since session 22; a trial had stopped them where they spared few lanes, which
     /// cost the smooth scenes up to 5%). The answers keep their meaning. Off: the pieces only.
     bool segment_forms = true;
+    /// Coarse scans: where the segment forms run on a node's own list (a smooth list: a tangent
+    /// list without kinks, of at least 8 instructions), a node of rays that would be scanned
+    /// together is scanned while each segment is at most `coarse_pieces` pieces long (instead of
+    /// 8), and a node of at most 64 rays is split in t while its depth exceeds `scan_aspect`
+    /// (instead of `aspect`) times its lateral extent: fewer, deeper nodes above the scans. A
+    /// ray whose segment of more than 8 pieces the forms leave undecided (neither free nor
+    /// strictly monotone) is left to the node's two halves in t, which only such rays enter (the
+    /// others are answered, or proven free on [a, b] and closed while the halves run). Tried in
+    /// each root tile while they pay: the first 64 long segments, then while at most one in eight
+    /// is left to the halves (Chmutov's sextic leaves a fifth). The answers keep their meaning.
+    /// Measured in docs/benchmarks.md (session 28). Off: segments of at most 8 pieces, `aspect`.
+    bool coarse_scans = true;
+    /// With coarse_scans: the longest segment scanned, in pieces (more than 8).
+    unsigned coarse_pieces = 32;
+    /// With coarse_scans: the aspect of nodes of at most 64 rays.
+    double scan_aspect = 1.0;
     /// With the segment forms, a segment that they do not prove free but on which the derivative
     /// along the ray keeps one strict sign (g strictly monotone) is decided by points: ends of one
     /// strict sign prove it free (the solid: both ≥ 0), ends of strict opposite signs bracket a
@@ -262,6 +278,8 @@ struct CoherentStats {
     std::uint64_t wide_forms = 0;
     /// rays' leaf segments that their segment form proved free (CoherentOptions::segment_forms)
     std::uint64_t segment_forms = 0;
+    /// rays whose segment a coarse scan left to the node's halves in t (coarse_scans)
+    std::uint64_t coarse_deferred = 0;
     /// of those tried: strictly monotone segments whose ends bracket a zero (monotone_segments)
     std::uint64_t monotone_segments = 0;
     /// of those: brackets that the Newton step from the segment's middle gave without an end

@@ -140,6 +140,10 @@ struct Level {
         Ray s;
         RayResult res;
         std::size_t begin = 0, end = 0;  ///< its pieces: Walker::pieces_[begin, end)
+        /// In a coarse scan, s was longer than Walker::kMaxPieces pieces when the scan took it.
+        bool long_segment = false;
+        /// Left to the node's halves in t (a coarse scan: CoherentOptions::coarse_scans).
+        bool deferred = false;
         // Built in place (emplace_back) and filled there: a local copy written field by field
         // and then copied 16 bytes at a time stalled store forwarding (a fifth of
         // scan_together's samples on Barth's sextic). `ray` over [tmin, tmax], not answered.
@@ -187,6 +191,12 @@ inline bool has_choices(const Ssa& list) {
 /// two, without the division: in any rounding mode the quotient rounds to at most m − 1 exactly
 /// when the length is at most (m − 1)·w (exact: m − 1 is a power of two).
 inline bool fewer_pieces(const Ray& s, double w, int m) { return s.tmax - s.tmin <= (m - 1) * w; }
+
+/// Whether [a, b] can be halved: its middle, as the walk takes it, lies strictly inside.
+inline bool splittable(double a, double b) {
+    const double m = 0.5 * a + 0.5 * b;
+    return a < m && m < b;
+}
 
 /// Hits waiting for their normals (Walker::flush_normals): fewer take a Dual walk each (a walk of
 /// lanes costs more for one or two points: measured on the gyroid).

@@ -2,6 +2,7 @@
 // deep, and the rays of a node (or of several) scanned together in lanes, with tile pieces, forms
 // and quarters (tracers/coherent_walker.h; docs/theory/coherent.md, "Options for images").
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include "expr/eval.h"
@@ -138,6 +139,11 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
     segments_.clear();
     double w_tile = kInf;  // the narrowest piece width (tile pieces: one group)
     unsigned taken = 0;
+    // Coarse scans: longer segments, those the forms leave undecided to the node's halves.
+    const bool coarse = !folded_only && coarse_scans(list, depth);
+    const double most_pieces = coarse ? options_.coarse_pieces : kMaxPieces;
+    assert(count <= 4);
+    std::size_t group_end[4] = {0, 0, 0, 0};  // each group's segments end there
     for (int g = 0; g < count; ++g) {
         const Rect& r = groups[g].r;
         const double a = groups[g].a, b = groups[g].b;
@@ -152,7 +158,7 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
                 s.tmin = std::max(a, p.ray.tmin);
                 s.tmax = std::min(b, p.ray.tmax);
                 const double w = piece_width(s);
-                if (!(w > 0 && s.tmax - s.tmin <= kMaxPieces * w)) {
+                if (!(w > 0 && s.tmax - s.tmin <= most_pieces * w)) {
                     short_enough = false;
                     break;
                 }
@@ -162,8 +168,10 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
         }
         if (!short_enough) {
             segments_.resize(mark);
+            group_end[g] = mark;
             continue;
         }
+        group_end[g] = segments_.size();
         w_tile = std::min(w_tile, w_group);
         taken |= 1u << g;
     }
@@ -222,6 +230,7 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
     int saved = 0;            // pieces of the rays' own that the tile pieces made unnecessary
     for (const Segment& g : segments_) {
         Level::Scanned& z = level.scanned.emplace_back(g.i, g.j, px(g.i, g.j).ray, g.tmin, g.tmax);
+        z.long_segment = coarse && g.tmax - g.tmin > kMaxPieces * piece_width(z.s);
         Ray& s = z.s;
         RayResult& res = z.res;
         if (tiles > 0) {
@@ -271,12 +280,31 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
     tile_trial_.wins +=
         tiles > 0 && (decided > 0 || cleared == segments_.size() || saved >= 4 * kWalkLanes);
     take_segment_forms(list, depth, level);
-    // The pieces of every ray not decided yet, as scan() cuts them.
-    for (Level::Scanned& z : level.scanned) {
+    // The pieces of every ray not decided yet, as scan() cuts them; in a coarse scan, a segment
+    // still longer than kMaxPieces pieces is left to the node's halves (where its group's [a, b]
+    // can be halved).
+    int group = 0;
+    for (std::size_t ray = 0; ray < level.scanned.size(); ++ray) {
+        Level::Scanned& z = level.scanned[ray];
+        while (ray >= group_end[group]) ++group;
         z.begin = pieces_.size();
+        coarse_long_ += z.long_segment;
         if (z.res.status == Status::Miss && z.s.tmin < z.s.tmax) {
             const double w = piece_width(z.s);
             const int n = pieces_of(z.s, w);
+            if (z.long_segment && splittable(groups[group].a, groups[group].b)) {
+                ++coarse_left_;
+                z.deferred = true;
+                z.end = z.begin;
+                // Free before z.s.tmin (the forms' line or brackets cut that part off): the
+                // halves start the ray there.
+                Px& p = px(z.i, z.j);
+                if (z.s.tmin > p.ray.tmin) {
+                    p.ray.tmin = z.s.tmin;
+                    block_of(z.i, z.j).stale = true;
+                }
+                continue;
+            }
             for (int k = 0; k < n; ++k) {
                 const auto [lo, hi] = piece(z.s, w, k, n);
                 if (lo < hi) pieces_.push_back({z.i, z.j, lo, hi});
@@ -576,12 +604,70 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
     }
     if (kinked && tl != nullptr) kink_forms_.wins += 2 * forms_proven >= forms_tried;
     // Settled in pixel order; a split recurses into deeper levels, which do not touch this one.
+    bool deferred = false;
     for (std::size_t ray = 0; ray < level.scanned.size(); ++ray) {
         const Level::Scanned& z = level.scanned[ray];  // settle() recurses into deeper levels only
+        if (z.deferred) {
+            deferred = true;
+            ++stats.coarse_deferred;
+            spend(z.i, z.j, z.res.evals);
+            continue;
+        }
         stats.together += z.res.status != Status::Unknown;
         settle(z.i, z.j, z.s, z.res, true, list, tape, level, depth);
     }
+    if (!deferred) return taken;
+    // The deferred rays, group by group, in the node's halves (deeper levels: this one's
+    // scanned rays are read before they start).
+    std::size_t begin = 0;
+    for (int g = 0; g < count; ++g) {
+        const std::size_t end = group_end[g];
+        if (end > begin) {
+            descend_deferred(groups[g].r, groups[g].a, groups[g].b, list, tape, level, begin, end,
+                             depth);
+        }
+        begin = end;
+    }
     return taken;
+}
+
+void Walker::descend_deferred(const Rect& r, double a, double b, const Ssa& list,
+                              const expr::Tape* tape, Level& level, std::size_t begin,
+                              std::size_t end, unsigned depth) {
+    // The group's rays that are not deferred are closed while the halves run: those still open
+    // are proven free on [a, b] (their answers past b come later). The scan's records are read
+    // before the halves reuse nothing of this level (they run at depth + 1).
+    const std::size_t mark = hidden_.size();
+    bool any = false;
+    for (std::size_t ray = begin; ray < end; ++ray) {
+        const Level::Scanned& z = level.scanned[ray];
+        Px& p = px(z.i, z.j);
+        if (z.deferred) {
+            any = true;
+            continue;
+        }
+        if (!p.open) continue;
+        p.open = false;
+        Block& k = block_of(z.i, z.j);
+        --k.open;
+        k.stale = true;
+        hidden_.emplace_back(z.i, z.j);
+    }
+    if (any) {
+        ++answered_;  // the hulls taken before count the closed rays
+        const double m = 0.5 * a + 0.5 * b;
+        node(r, a, m, list, tape, depth + 1);
+        node(r, m, b, list, tape, depth + 1);
+    }
+    for (std::size_t k = mark; k < hidden_.size(); ++k) {
+        const auto [i, j] = hidden_[k];
+        px(i, j).open = true;
+        Block& block = block_of(i, j);
+        ++block.open;
+        block.stale = true;
+    }
+    hidden_.resize(mark);
+    ++answered_;
 }
 
 }  // namespace certray::tracers::detail::coherent

@@ -76,12 +76,6 @@ void normal_lanes(const expr::DualLanes& f, NormalLanes& n) {
 #endif
 }
 
-/// Whether [a, b] can be halved: its middle, as the walk takes it, lies strictly inside.
-bool splittable(double a, double b) {
-    const double m = 0.5 * a + 0.5 * b;
-    return a < m && m < b;
-}
-
 /// A register tape from a list written by prune_ssa (slots in any order): renumbered so that slot
 /// i is instruction i, as Tape::from_ssa wants.
 expr::Tape tape_of(const Ssa& list) {
@@ -108,6 +102,7 @@ bool Walker::tile(const Rect& r) {
     kink_forms_.reset();
     second_trial_.reset();
     plain_tried_ = plain_free_ = 0;
+    coarse_long_ = coarse_left_ = 0;
     fold_trial_.reset();
     root_box_.reset();
     // The tile's answers, a miss until answered: kept here while the walk writes them (a few
@@ -385,7 +380,11 @@ void Walker::descend(const Rect& r, double a, double b, const Ssa& list, const e
         }
         const double lateral = spread_o + std::fabs(b) * spread_d +
                                rays_.pixel_pitch() * (rays_.angular() ? std::fabs(b) : 1);
-        if (t_splits_ && b - a > options_.aspect * lateral && splittable(a, b)) {
+        // Nodes that a coarse scan may take (not those left to a folded scan of their own).
+        const bool coarse =
+            count <= kCoarseRays && (together || !may_fold(*sub)) && coarse_scans(*sub, depth);
+        const double aspect = coarse ? options_.scan_aspect : options_.aspect;
+        if (t_splits_ && b - a > aspect * lateral && splittable(a, b)) {
             // Near segment first: the far one only sees the rays the near one left open.
             const double m = 0.5 * a + 0.5 * b;
             node(r, a, m, *sub, sub_tape, depth + 1, &hull);

@@ -194,6 +194,27 @@ class Walker {
     /// the node's box.
     bool scan_together(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
                        Level& level, unsigned depth, const Hull& hull, bool folded_only = false);
+    /// Whether nodes of `list` at `depth` that would be scanned together are scanned coarsely
+    /// (CoherentOptions::coarse_scans): where the segment forms run on the list itself, while
+    /// they pay in the root tile (the first kCoarseFirst long segments, then while at most one
+    /// in kCoarseShare is left to the halves).
+    bool coarse_scans(const Ssa& list, unsigned depth) {
+        return options_.coarse_scans && options_.coarse_pieces > kMaxPieces &&
+               options_.segment_forms &&
+               (coarse_long_ < kCoarseFirst || kCoarseShare * coarse_left_ <= coarse_long_) &&
+               list.size() >= kSegmentFormList && depth + 1 < kMaxDepth &&
+               tangent_kind(list, depth) == expr::TangentKind::Smooth;
+    }
+    /// Nodes of at most this many rays take CoherentOptions::scan_aspect where they scan
+    /// coarsely.
+    static constexpr unsigned kCoarseRays = 64;
+    static constexpr std::size_t kCoarseFirst = 64, kCoarseShare = 8;  ///< coarse_scans()'s trial
+    /// The rays of a coarse scan's group that it left to the node's halves (Scanned::deferred)
+    /// walk them; the group's other rays, answered or proven free on [a, b], are left out of
+    /// them (closed while they run, then open again).
+    void descend_deferred(const Rect& r, double a, double b, const Ssa& list,
+                          const expr::Tape* tape, Level& level, std::size_t begin, std::size_t end,
+                          unsigned depth);
     /// A node's rectangle and parameter range, scanned with others (scan_groups).
     struct ScanGroup {
         Rect r;
@@ -502,6 +523,9 @@ class Walker {
     /// The root tile's segment forms so far: segments tried, and those their plain enclosure
     /// proved free (take_segment_forms() walks those enclosures first while that is 3 in 10).
     std::size_t plain_tried_ = 0, plain_free_ = 0;
+    /// This root tile's coarse scans: the rays whose segment was longer than kMaxPieces pieces,
+    /// and those of them left to the halves (coarse_scans()).
+    std::size_t coarse_long_ = 0, coarse_left_ = 0;
     /// This root tile's folds (fold(); a win: a fold, which drops an eighth of the list or more):
     /// the first 4, then while half of them win, else one in 16. The molecule's lists of thousands
     /// of instructions drop little, and a fold costs about four walks of the list.
@@ -628,6 +652,7 @@ class Walker {
         double tmin, tmax;
     };
     std::vector<Segment> segments_;
+    std::vector<std::pair<unsigned, unsigned>> hidden_;  ///< descend_deferred()'s closed rays
     /// scan_together()'s strictly monotone segments (CoherentOptions::monotone_segments): the
     /// ray (in level.scanned), its bracket [lo, hi] and g's strict sign at lo (the solid: 1, for
     /// g(lo) ≥ 0).

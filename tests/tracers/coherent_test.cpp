@@ -557,6 +557,7 @@ TEST(Coherent, NewtonBracketsHoldTheRootOfMathematicsAndKeepTheAnswers) {
             CoherentOptions o = small_view(p);
             o.surface = surface;
             o.depth_pixels = 0.5;
+            o.coarse_scans = false;  // segments of at most 8 pieces, as the brackets were measured
             std::vector<RayResult> results;
             CoherentStats stats;
             render_3d_coherent(sphere, o, &stats, &results);
@@ -637,18 +638,79 @@ void for_smooth_views_either_way(
     }
 }
 
+/// for_smooth_views_either_way for `flag`, where `counter` counts nothing without the option:
+/// what it counts with the option, over all the views.
+std::uint64_t smooth_views_count_only_with(bool CoherentOptions::*flag,
+                                           std::uint64_t CoherentStats::*counter) {
+    std::uint64_t counted = 0;
+    for_smooth_views_either_way(flag, [&](const std::string& where, const auto& stats) {
+        EXPECT_EQ(stats[0].*counter, 0u) << where;
+        counted += stats[1].*counter;
+    });
+    return counted;
+}
+
 TEST(Coherent, MergedScansKeepTheAnswers) {
     // A node's quarters scanned together (merged_scans), each ray over its own quarter's [a, b]:
     // with and without, every pixel of the smooth algebraic scenes has the same status and
     // consistent Hits, both agreeing with the per-ray solver; scans were merged, and none
     // without the option.
-    std::uint64_t merged = 0;
-    for_smooth_views_either_way(&CoherentOptions::merged_scans,
-                                [&](const std::string& where, const auto& stats) {
-                                    EXPECT_EQ(stats[0].merged_scans, 0u) << where;
-                                    merged += stats[1].merged_scans;
-                                });
-    EXPECT_GT(merged, 0u);
+    EXPECT_GT(
+        smooth_views_count_only_with(&CoherentOptions::merged_scans, &CoherentStats::merged_scans),
+        0u);
+}
+
+TEST(Coherent, CoarseScansKeepTheAnswers) {
+    // Scans of segments up to 32 pieces long, the undecided ones left to the node's halves in t
+    // (coarse_scans): with and without, every pixel of the smooth algebraic scenes has the same
+    // status and consistent Hits, both agreeing with the per-ray solver (a ray that the halves
+    // lost, or one they answered although it was closed, would be a Miss or a wrong Hit); rays
+    // were left to the halves, and none without the option.
+    EXPECT_GT(smooth_views_count_only_with(&CoherentOptions::coarse_scans,
+                                           &CoherentStats::coarse_deferred),
+              0u);
+    // The root that mathematics gives, in every Hit of a coarse scan: the sphere as a product
+    // with a positive factor (a smooth list long enough for the segment forms), its first root
+    // of a·t² + b·t + c in long double.
+    const expr::Tape sphere(expr::parse_expr("(x^2 + y^2 + z^2 - 1) * (2 + x^2 + 2*y^2 + 3*z^2)"));
+    for (Projection p : {Projection::Pinhole, Projection::Ortho}) {
+        CoherentOptions o = small_view(p);
+        o.render.width = o.render.height = 96;
+        o.depth_pixels = 0.5;
+        std::vector<RayResult> results;
+        CoherentStats stats;
+        render_3d_coherent(sphere, o, &stats, &results);
+        const PixelRays rays(o);
+        unsigned hits = 0;
+        for (std::size_t k = 0; k < results.size(); ++k) {
+            Ray ray;
+            if (!rays.ray(static_cast<unsigned>(k % 96), static_cast<unsigned>(k / 96), ray)) {
+                EXPECT_EQ(results[k].status, Status::Miss) << k;  // outside the bounds
+                continue;
+            }
+            using L = long double;
+            const L a = L(ray.d[0]) * ray.d[0] + L(ray.d[1]) * ray.d[1] + L(ray.d[2]) * ray.d[2];
+            const L b =
+                2 * (L(ray.o[0]) * ray.d[0] + L(ray.o[1]) * ray.d[1] + L(ray.o[2]) * ray.d[2]);
+            const L c =
+                L(ray.o[0]) * ray.o[0] + L(ray.o[1]) * ray.o[1] + L(ray.o[2]) * ray.o[2] - 1;
+            const L disc = b * b - 4 * a * c;
+            const RayResult& r = results[k];
+            if (disc < -1e-9) {
+                EXPECT_EQ(r.status, Status::Miss) << k;
+                continue;
+            }
+            if (disc < 1e-9) continue;  // grazing
+            const L t = (-b - std::sqrt(disc)) / (2 * a);
+            if (t < ray.tmin || t > ray.tmax) continue;
+            ASSERT_EQ(r.status, Status::Hit) << k;
+            const L slack = 1e-17L * t;
+            EXPECT_LE(r.t_lo, t + slack) << k;
+            EXPECT_GE(r.t_hi, t - slack) << k;
+            ++hits;
+        }
+        EXPECT_GT(hits, p == Projection::Pinhole ? 500u : 1700u);  // 548; π/16 of 96²: 1809
+    }
 }
 
 TEST(Coherent, SecondOrderFormsKeepTheAnswers) {
@@ -787,6 +849,8 @@ TEST(Coherent, FoldedListsKeepTheRootsOfMathematics) {
             o.surface = surface;
             o.fold_lists = fold > 0 ? 128 : 0;
             o.folded_together_rays = fold == 2 ? 64 : 0;
+            // Coarse scans take this smooth list's nodes of 64 rays apart before they would fold.
+            o.coarse_scans = fold < 2;
             render_3d_coherent(tape, o, &stats[fold], &answers[fold]);
             const PixelRays rays(o);
             unsigned hits = 0;
@@ -905,6 +969,7 @@ TEST(Coherent, ThreadsAndMeanValueFormDoNotChangeAnswersAndMeanValueSavesWork) {
     CoherentOptions s = small_view(Projection::Ortho);
     s.surface = Surface::Solid;
     s.render.bounds = {{{-1, 1}, {-1, 1}, {-1, 1}}};
+    s.coarse_scans = false;  // its longer segments spare more than the form on this small view
     CoherentStats solid_adaptive, solid_without;
     const RenderResult d = render_3d_coherent(chmutov, s, &solid_adaptive);
     s.mean_value_rays = 0;
