@@ -160,7 +160,7 @@ struct CoherentOptions {
     /// strictly monotone) is left to the node's two halves in t, which only such rays enter (the
     /// others are answered, or proven free on [a, b] and closed while the halves run). Tried in
     /// each root tile while they pay: the first 64 long segments, then while at most one in eight
-    /// is left to the halves (Chmutov's sextic leaves a fifth). The answers keep their meaning.
+    /// is left to the halves (Chmutov's sextic leaves many). The answers keep their meaning.
     /// Measured in docs/benchmarks.md (session 28). Off: segments of at most 8 pieces, `aspect`.
     bool coarse_scans = true;
     /// With coarse_scans: the longest segment scanned, in pieces (more than 8).
