@@ -140,7 +140,8 @@ struct Level {
         Ray s;
         RayResult res;
         std::size_t begin = 0, end = 0;  ///< its pieces: Walker::pieces_[begin, end)
-        /// In a coarse scan, s was longer than Walker::kMaxPieces pieces when the scan took it.
+        /// In a coarse scan, s was longer than Walker::kMaxPieces pieces when the scan took it
+        /// (and its node's [a, b] can be halved): left to the halves if the forms do not decide it.
         bool long_segment = false;
         /// Left to the node's halves in t (a coarse scan: CoherentOptions::coarse_scans).
         bool deferred = false;

@@ -147,6 +147,7 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
     for (int g = 0; g < count; ++g) {
         const Rect& r = groups[g].r;
         const double a = groups[g].a, b = groups[g].b;
+        const bool halvable = coarse && splittable(a, b);  // its long segments may be deferred
         const std::size_t mark = segments_.size();
         double w_group = kInf;
         bool short_enough = true;
@@ -163,7 +164,8 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
                     break;
                 }
                 w_group = std::min(w_group, w);
-                segments_.push_back({i, j, s.tmin, s.tmax});
+                segments_.push_back(
+                    {i, j, s.tmin, s.tmax, halvable && s.tmax - s.tmin > kMaxPieces * w});
             }
         }
         if (!short_enough) {
@@ -230,7 +232,8 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
     int saved = 0;            // pieces of the rays' own that the tile pieces made unnecessary
     for (const Segment& g : segments_) {
         Level::Scanned& z = level.scanned.emplace_back(g.i, g.j, px(g.i, g.j).ray, g.tmin, g.tmax);
-        z.long_segment = coarse && g.tmax - g.tmin > kMaxPieces * piece_width(z.s);
+        z.long_segment = g.long_segment;
+        coarse_long_ += g.long_segment;
         Ray& s = z.s;
         RayResult& res = z.res;
         if (tiles > 0) {
@@ -280,19 +283,12 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
     tile_trial_.wins +=
         tiles > 0 && (decided > 0 || cleared == segments_.size() || saved >= 4 * kWalkLanes);
     take_segment_forms(list, depth, level);
-    // The pieces of every ray not decided yet, as scan() cuts them; in a coarse scan, a segment
-    // still longer than kMaxPieces pieces is left to the node's halves (where its group's [a, b]
-    // can be halved).
-    int group = 0;
-    for (std::size_t ray = 0; ray < level.scanned.size(); ++ray) {
-        Level::Scanned& z = level.scanned[ray];
-        while (ray >= group_end[group]) ++group;
+    // The pieces of every ray not decided yet, as scan() cuts them; in a coarse scan, a long
+    // segment that the forms left undecided is left to the node's halves instead.
+    for (Level::Scanned& z : level.scanned) {
         z.begin = pieces_.size();
-        coarse_long_ += z.long_segment;
         if (z.res.status == Status::Miss && z.s.tmin < z.s.tmax) {
-            const double w = piece_width(z.s);
-            const int n = pieces_of(z.s, w);
-            if (z.long_segment && splittable(groups[group].a, groups[group].b)) {
+            if (z.long_segment) {
                 ++coarse_left_;
                 z.deferred = true;
                 z.end = z.begin;
@@ -305,6 +301,8 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
                 }
                 continue;
             }
+            const double w = piece_width(z.s);
+            const int n = pieces_of(z.s, w);
             for (int k = 0; k < n; ++k) {
                 const auto [lo, hi] = piece(z.s, w, k, n);
                 if (lo < hi) pieces_.push_back({z.i, z.j, lo, hi});
@@ -635,39 +633,27 @@ void Walker::descend_deferred(const Rect& r, double a, double b, const Ssa& list
                               const expr::Tape* tape, Level& level, std::size_t begin,
                               std::size_t end, unsigned depth) {
     // The group's rays that are not deferred are closed while the halves run: those still open
-    // are proven free on [a, b] (their answers past b come later). The scan's records are read
-    // before the halves reuse nothing of this level (they run at depth + 1).
+    // are proven free on [a, b] (their answers past b come later). The halves run at depth + 1
+    // and leave this level's scanned rays as they are.
     const std::size_t mark = hidden_.size();
     bool any = false;
     for (std::size_t ray = begin; ray < end; ++ray) {
         const Level::Scanned& z = level.scanned[ray];
-        Px& p = px(z.i, z.j);
         if (z.deferred) {
             any = true;
-            continue;
+        } else if (px(z.i, z.j).open) {
+            set_open(z.i, z.j, false);
+            hidden_.emplace_back(z.i, z.j);
         }
-        if (!p.open) continue;
-        p.open = false;
-        Block& k = block_of(z.i, z.j);
-        --k.open;
-        k.stale = true;
-        hidden_.emplace_back(z.i, z.j);
     }
     if (any) {
-        ++answered_;  // the hulls taken before count the closed rays
         const double m = 0.5 * a + 0.5 * b;
         node(r, a, m, list, tape, depth + 1);
         node(r, m, b, list, tape, depth + 1);
     }
-    for (std::size_t k = mark; k < hidden_.size(); ++k) {
-        const auto [i, j] = hidden_[k];
-        px(i, j).open = true;
-        Block& block = block_of(i, j);
-        ++block.open;
-        block.stale = true;
-    }
+    for (std::size_t k = mark; k < hidden_.size(); ++k)
+        set_open(hidden_[k].first, hidden_[k].second, true);
     hidden_.resize(mark);
-    ++answered_;
 }
 
 }  // namespace certray::tracers::detail::coherent

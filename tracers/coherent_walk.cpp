@@ -631,11 +631,7 @@ void Walker::spend(unsigned i, unsigned j, const EvalCounts& e) {
 void Walker::answer(unsigned i, unsigned j, Px& p, const RayResult& res, const Ssa& list, double a,
                     double b) {
     assert(p.open);  // answered once
-    p.open = false;
-    Block& block = block_of(i, j);
-    block.stale = true;
-    --block.open;
-    ++answered_;
+    set_open(i, j, false);
     evals += res.evals;
     const Ray& ray = p.ray;
     const std::size_t k = slot(i, j);

@@ -209,6 +209,15 @@ class Walker {
     /// coarsely.
     static constexpr unsigned kCoarseRays = 64;
     static constexpr std::size_t kCoarseFirst = 64, kCoarseShare = 8;  ///< coarse_scans()'s trial
+    /// Opens or closes pixel (i, j)'s ray (answer(); descend_deferred() closes rays for a while):
+    /// its block's count of open rays follows, and the hulls taken before are stale.
+    void set_open(unsigned i, unsigned j, bool open) {
+        px(i, j).open = open;
+        Block& block = block_of(i, j);
+        block.open += open ? 1 : -1;
+        block.stale = true;
+        ++answered_;
+    }
     /// The rays of a coarse scan's group that it left to the node's halves (Scanned::deferred)
     /// walk them; the group's other rays, answered or proven free on [a, b], are left out of
     /// them (closed while they run, then open again).
@@ -565,7 +574,7 @@ class Walker {
     PixelAnswers mine_;
     std::vector<Ray> row_rays_;  ///< tile()'s rays of a row, and which meet the bounds
     boost::container::vector<bool> row_in_;
-    std::uint64_t answered_ = 0;  ///< rays answered so far (hulls taken before are stale)
+    std::uint64_t answered_ = 0;  ///< rays opened or closed so far (hulls taken before are stale)
     std::vector<Dual<UpInterval, 3>> duals_;
     std::vector<Dual<UpInterval, 1>> duals1_;
     std::vector<UpInterval> centre_;
@@ -650,6 +659,7 @@ class Walker {
     struct Segment {
         unsigned i, j;
         double tmin, tmax;
+        bool long_segment;  ///< Level::Scanned::long_segment
     };
     std::vector<Segment> segments_;
     std::vector<std::pair<unsigned, unsigned>> hidden_;  ///< descend_deferred()'s closed rays
