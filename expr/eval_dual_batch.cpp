@@ -4,6 +4,12 @@
 // GCC's generic vectors of 4 lanes (8 on AVX-512), up to the vector holding lane n − 1 (the same
 // IEEE operation in each lane); libm's functions at each of the n lanes' values. The ops without a
 // loop here run Dual's own operation lane by lane, through detail::run on a one-instruction list.
+//
+// The vector instantiation of number.h's binary_power (Op::Pow) may be left out of line (profile-
+// guided builds leave it so): then it is compiled for the baseline instruction set, the same IEEE
+// products (the same bits), and GCC's -Wpsabi note on its vector return is expected (caller and
+// copy are in this translation unit and agree on it).
+#pragma GCC diagnostic ignored "-Wpsabi"
 #include "expr/eval_dual_batch.h"
 
 #include <cassert>
