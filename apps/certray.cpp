@@ -18,6 +18,7 @@
 #include "apps/render.h"
 #include "expr/input_error.h"
 #include "tracers/methods.h"
+#include "tracers/parallel.h"
 
 #ifndef CERTRAY_VERSION
 #define CERTRAY_VERSION "unknown"
@@ -296,6 +297,7 @@ int main(int argc, char** argv) {
                                                         : static_cast<double>(query_int[name]);
                 query.knobs.values.emplace_back(name, v);
             }
+            certray::tracers::prestart_workers(query.threads);  // awake when the rays are read
             return certray::apps::run_query(query);
         }
         if (cmd_bench->parsed()) {
@@ -306,6 +308,7 @@ int main(int argc, char** argv) {
         }
         if (cmd_render->parsed()) {
             if (!check_bounds("render", render.bounds)) return kExitUsage;
+            certray::tracers::prestart_workers(render.threads);  // awake when the scene is read
             return certray::apps::run_render(render, std::cout);
         }
         return kExitOk;

@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Profile-guided optimisation, step one: builds an instrumented certray in build-pgo/ and runs the
 # training (scripts/pgo-train.sh), which leaves its counts in build-pgo/profile/. Step two is a
-# build configured with -DCERTRAY_PGO=use (scripts/run.sh and scripts/test.sh do both steps).
+# build configured with -DCERTRAY_PGO=use -DCERTRAY_PGO_DIR="$PWD/build-pgo/profile".
 # build-pgo/profile/stamp.h names the counts by their hash; every file of a CERTRAY_PGO=use build
 # includes it, so that new counts recompile them all and the same counts recompile nothing.
-# Measured in docs/benchmarks.md (session 29).
+# Optional: the scripts' builds do not use it (docs/benchmarks.md, session 29: the times move by
+# −6% to +5% per scene with the training's mix).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 profile="$PWD/build-pgo/profile"

@@ -1,17 +1,13 @@
 #!/usr/bin/env bash
-# Builds the certray executable (Release, profile-guided: scripts/pgo.sh) and runs the main job
-# over the scene gallery: for each scene, the tape, a proven enclosure of f and a Lipschitz bound
-# over its bounds, the evaluation speed, and how far interval pruning shortens the tape per
-# subdivision level; certified ray queries on every 3D scene; and the gallery rendered to
-# out/gallery/*.png (certified, shaded and with the per-pixel evaluation count; prospero as a 2D
-# image: the sign of f at each pixel centre).
+# Builds the certray executable (Release) and runs the main job over the scene gallery: for each
+# scene, the tape, a proven enclosure of f and a Lipschitz bound over its bounds, the evaluation
+# speed, and how far interval pruning shortens the tape per subdivision level; certified ray
+# queries on every 3D scene; and the gallery rendered to out/gallery/*.png (certified, shaded and
+# with the per-pixel evaluation count; prospero as a 2D image: the sign of f at each pixel centre).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
-# Profile-guided: an instrumented build trained on the gallery first (scripts/pgo.sh).
-scripts/pgo.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCERTRAY_PGO=use \
-    -DCERTRAY_PGO_DIR="$PWD/build-pgo/profile" >/dev/null
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc)" --target certray_cli
 build/apps/certray inspect scenes/*.expr scenes/[a-o]*.vm scenes/[q-z]*.vm --bounds -2 2 --levels 4
 build/apps/certray inspect scenes/prospero.vm --bounds -1 1 --levels 6

@@ -1,8 +1,12 @@
 // tracers/parallel.cpp — run_workers and parallel_for (see parallel.h).
 #include "tracers/parallel.h"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
 #include <condition_variable>
+#include <cstdint>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -14,6 +18,128 @@ namespace certray::tracers {
 
 unsigned worker_count(unsigned threads) {
     return threads > 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
+}
+
+namespace {
+
+/// How long an idle pool thread spins (watching for work, its core awake) before it sleeps. A
+/// sleeping thread's core may take milliseconds to wake on a virtual machine: measured on the
+/// development machine, the second worker of a 35 ms render started up to 3.6 ms late
+/// (docs/benchmarks.md, session 29).
+constexpr auto kSpin = std::chrono::milliseconds(30);
+/// More threads than this are not kept: a run that asks for more starts its own.
+constexpr unsigned kMostPooled = 256;
+
+void pause() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#else
+    std::this_thread::yield();
+#endif
+}
+
+/// The threads kept between runs (tracers/parallel.h's contract). One run at a time: a run that
+/// finds the pool busy (another thread's run, or one nested in a worker) starts its own threads.
+/// Never destroyed (its threads outlive main's return harmlessly: idle, they touch only the
+/// pool), and made anew in a child process after fork (which has none of its parent's threads).
+class Pool {
+  public:
+    static Pool& get() {
+        static std::mutex made;
+        static Pool* pool = nullptr;
+        static pid_t owner = 0;
+        std::lock_guard lock(made);
+        if (pool == nullptr || owner != getpid()) {
+            pool = new Pool();  // a parent's pool is left as it is: its threads are not ours
+            owner = getpid();
+        }
+        return *pool;
+    }
+
+    /// Grows the pool to `threads` threads (at most kMostPooled), each spinning for kSpin first.
+    void reserve(unsigned threads) {
+        std::lock_guard lock(mutex_);
+        grow(std::min(threads, kMostPooled));
+    }
+
+    /// Runs run(k) for k in [first, workers) on the pool's threads and returns when all have
+    /// returned (run catches its own exceptions); meanwhile `caller` runs on the calling thread.
+    /// False, with nothing run, where the pool is busy or too small to be asked.
+    bool run(unsigned first, unsigned workers, const std::function<void(unsigned)>& run,
+             const std::function<void()>& caller) {
+        const unsigned needed = workers - first;
+        {
+            std::lock_guard lock(mutex_);
+            if (busy_ || needed > kMostPooled) return false;
+            busy_ = true;
+            grow(needed);
+            job_ = &run;
+            next_ = first;
+            end_ = workers;
+            needed_ = needed;
+            remaining_ = needed;
+            generation_.fetch_add(1, std::memory_order_release);
+        }
+        wake_.notify_all();
+        caller();
+        std::unique_lock lock(mutex_);
+        done_.wait(lock, [&] { return remaining_ == 0; });
+        job_ = nullptr;
+        busy_ = false;
+        return true;
+    }
+
+  private:
+    Pool() = default;
+
+    void grow(unsigned threads) {  // under mutex_
+        while (threads_.size() < threads) {
+            const unsigned index = static_cast<unsigned>(threads_.size());
+            threads_.emplace_back([this, index] { loop(index); }).detach();
+        }
+    }
+
+    void loop(unsigned index) {
+        std::uint64_t seen = 0;
+        bool spin = true;  // after its start and after work; not after a run that left it out
+        for (;;) {
+            // Idle: spin while kSpin lasts, then sleep until the next run.
+            const auto until = std::chrono::steady_clock::now() + kSpin;
+            for (unsigned n = 1; spin && generation_.load(std::memory_order_acquire) == seen; ++n) {
+                pause();
+                if (n % 64 == 0 && std::chrono::steady_clock::now() > until) break;
+            }
+            std::unique_lock lock(mutex_);
+            wake_.wait(lock, [&] { return generation_.load(std::memory_order_relaxed) != seen; });
+            seen = generation_.load(std::memory_order_relaxed);
+            // A thread the run does not need (index ≥ needed_) goes back to sleep; the others
+            // take the run's indices one at a time while any are left.
+            spin = job_ != nullptr && index < needed_;
+            while (job_ != nullptr && index < needed_ && next_ < end_) {
+                const unsigned k = next_++;
+                const std::function<void(unsigned)>& job = *job_;
+                lock.unlock();
+                job(k);
+                lock.lock();
+                if (--remaining_ == 0) done_.notify_all();
+            }
+        }
+    }
+
+    std::mutex mutex_;
+    std::condition_variable wake_, done_;
+    std::vector<std::thread> threads_;
+    std::atomic<std::uint64_t> generation_{0};  ///< one more at each run's start
+    bool busy_ = false;
+    const std::function<void(unsigned)>* job_ = nullptr;
+    unsigned next_ = 0, end_ = 0, needed_ = 0, remaining_ = 0;
+};
+
+}  // namespace
+
+void prestart_workers(unsigned threads) {
+    const unsigned workers = worker_count(threads);
+    if (workers > 1) Pool::get().reserve(workers - 1);
 }
 
 void run_workers(unsigned workers, const std::function<void(unsigned)>& fn,
@@ -35,21 +161,31 @@ void run_workers(unsigned workers, const std::function<void(unsigned)>& fn,
         ++finished;
         finished_cv.notify_all();
     };
-    std::vector<std::thread> pool;
     const unsigned first_thread = poll ? 0 : 1;
-    pool.reserve(workers);
-    for (unsigned k = first_thread; k < workers; ++k) pool.emplace_back(run, k);
-    if (!poll) {
-        run(0);
-    } else {
+    // On the calling thread: worker 0, or the polling until every worker has returned.
+    const auto caller = [&] {
+        if (!poll) {
+            run(0);
+            return;
+        }
         std::unique_lock lock(mutex);
         while (!finished_cv.wait_for(lock, period, [&] { return finished == workers; })) {
             lock.unlock();
             poll();
             lock.lock();
         }
+    };
+    if (first_thread == workers) {
+        caller();
+    } else if (!Pool::get().run(first_thread, workers, run, caller)) {
+        // The pool is busy (a run on another thread, or this one nested in a worker): threads of
+        // this run's own.
+        std::vector<std::thread> own;
+        own.reserve(workers);
+        for (unsigned k = first_thread; k < workers; ++k) own.emplace_back(run, k);
+        caller();
+        for (std::thread& t : own) t.join();
     }
-    for (std::thread& t : pool) t.join();
     if (error) std::rethrow_exception(error);
 }
 

@@ -1,9 +1,14 @@
 // tracers/parallel.h — the one way certray spreads work over threads.
 //
-// Contract: run_workers(workers, fn) calls fn(k) once for each k in [0, workers), each on its own
-// thread (the calling thread runs k = 0 unless it polls), and returns when all have returned;
-// each worker runs in the library's floating-point environment (NearestScope). The first
-// exception a worker throws is rethrown to the caller after all have returned.
+// Contract: run_workers(workers, fn) calls fn(k) once for each k in [0, workers) and returns when
+// all have returned: the calling thread runs k = 0 unless it polls, the others run on threads kept
+// between calls (a pool; one thread may run two k one after the other where another wakes late,
+// so fn must not wait for another k), or on threads of the call's own where the pool is busy (a
+// call on another thread, or one nested in a worker). Each worker runs in the library's
+// floating-point environment (NearestScope). The first exception a worker throws is rethrown to
+// the caller after all have returned. An idle pool thread spins for a few milliseconds before it
+// sleeps (a sleeping core can be slow to wake); prestart_workers(threads) starts them early, as the
+// command line does while it reads the scene.
 // parallel_for(n, options, body) calls body(begin, end, worker) on disjoint ranges covering
 // [0, n) exactly once, in chunks taken in increasing order by `worker_count(threads)` workers;
 // the first exception stops the others at their next chunk; a set cancel flag stops them the same
@@ -32,7 +37,11 @@ struct ParallelOptions {
 /// The number of workers `threads` means: itself if > 0, else the hardware threads (at least 1).
 unsigned worker_count(unsigned threads);
 
-/// Runs fn(0) … fn(workers − 1) on their own threads (see the file contract). With `poll`, the
+/// Starts the pool's threads for runs of `threads` workers (0: one per hardware thread) now, so
+/// that they are awake when the first run comes (see the file contract).
+void prestart_workers(unsigned threads);
+
+/// Runs fn(0) … fn(workers − 1) (see the file contract). With `poll`, the
 /// calling thread runs no worker and calls poll() about every `period` until all have returned.
 void run_workers(unsigned workers, const std::function<void(unsigned)>& fn,
                  const std::function<void()>& poll = {},
