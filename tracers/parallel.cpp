@@ -71,8 +71,8 @@ class Pool {
         {
             std::lock_guard lock(mutex_);
             if (busy_ || needed > kMostPooled) return false;
+            grow(needed);  // may throw (no thread to be had): then nothing has changed
             busy_ = true;
-            grow(needed);
             job_ = &run;
             next_ = first;
             end_ = workers;
@@ -81,11 +81,20 @@ class Pool {
             generation_.fetch_add(1, std::memory_order_release);
         }
         wake_.notify_all();
-        caller();
+        // The run's workers refer to the caller's frame: wait for them even where the caller's
+        // part throws (a progress callback may), then pass its exception on.
+        std::exception_ptr thrown;
+        try {
+            caller();
+        } catch (...) {
+            thrown = std::current_exception();
+        }
         std::unique_lock lock(mutex_);
         done_.wait(lock, [&] { return remaining_ == 0; });
         job_ = nullptr;
         busy_ = false;
+        lock.unlock();
+        if (thrown) std::rethrow_exception(thrown);
         return true;
     }
 
@@ -95,12 +104,13 @@ class Pool {
     void grow(unsigned threads) {  // under mutex_
         while (threads_.size() < threads) {
             const unsigned index = static_cast<unsigned>(threads_.size());
-            threads_.emplace_back([this, index] { loop(index); }).detach();
+            // It starts idle at the current run count: the run being set up is new to it.
+            const std::uint64_t seen = generation_.load(std::memory_order_relaxed);
+            threads_.emplace_back([this, index, seen] { loop(index, seen); }).detach();
         }
     }
 
-    void loop(unsigned index) {
-        std::uint64_t seen = 0;
+    void loop(unsigned index, std::uint64_t seen) {
         bool spin = true;  // after its start and after work; not after a run that left it out
         for (;;) {
             // Idle: spin while kSpin lasts, then sleep until the next run.
@@ -183,8 +193,14 @@ void run_workers(unsigned workers, const std::function<void(unsigned)>& fn,
         std::vector<std::thread> own;
         own.reserve(workers);
         for (unsigned k = first_thread; k < workers; ++k) own.emplace_back(run, k);
-        caller();
+        std::exception_ptr thrown;  // the poll's, passed on once the workers have returned
+        try {
+            caller();
+        } catch (...) {
+            thrown = std::current_exception();
+        }
         for (std::thread& t : own) t.join();
+        if (thrown) std::rethrow_exception(thrown);
     }
     if (error) std::rethrow_exception(error);
 }

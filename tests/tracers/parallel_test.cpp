@@ -109,6 +109,40 @@ TEST(RunWorkers, PollingCallerRunsNoWorker) {
     EXPECT_GE(polls, 1);
 }
 
+TEST(RunWorkers, APollThatThrowsWaitsForTheWorkers) {
+    // The workers refer to the caller's frame: the poll's exception reaches the caller only after
+    // they have all returned, and the pool serves the next run.
+    std::atomic<int> ran{0};
+    EXPECT_THROW(run_workers(
+                     3,
+                     [&](unsigned) {
+                         std::this_thread::sleep_for(std::chrono::milliseconds(30));
+                         ran.fetch_add(1);
+                     },
+                     [] { throw std::runtime_error("progress"); }, std::chrono::milliseconds(1)),
+                 std::runtime_error);
+    EXPECT_EQ(ran.load(), 3);
+    EXPECT_EQ(counts_of(3), std::vector<int>(3, 1));
+    // The same where the pool is busy (nested in a worker): the run's own threads.
+    std::atomic<int> inner{0};
+    std::atomic<int> caught{0};
+    run_workers(2, [&](unsigned) {
+        try {
+            run_workers(
+                2,
+                [&](unsigned) {
+                    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+                    inner.fetch_add(1);
+                },
+                [] { throw std::runtime_error("progress"); }, std::chrono::milliseconds(1));
+        } catch (const std::runtime_error&) {
+            caught.fetch_add(1);
+        }
+    });
+    EXPECT_EQ(inner.load(), 4);
+    EXPECT_EQ(caught.load(), 2);
+}
+
 TEST(RunWorkers, WorkersRoundToNearestWhateverTheCaller) {
     // 1 + 2^-60 is 1 rounded to nearest and the next double rounded upward: each worker, on the
     // caller's thread or the pool's, computes in the library's environment (NearestScope).
