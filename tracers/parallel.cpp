@@ -62,11 +62,10 @@ class Pool {
         grow(std::min(threads, kMostPooled));
     }
 
-    /// Runs run(k) for k in [first, workers) on the pool's threads and returns when all have
-    /// returned (run catches its own exceptions); meanwhile `caller` runs on the calling thread.
-    /// False, with nothing run, where the pool is busy or too small to be asked.
-    bool run(unsigned first, unsigned workers, const std::function<void(unsigned)>& run,
-             const std::function<void()>& caller) {
+    /// Starts run(k) for k in [first, workers) on the pool's threads (run catches its own
+    /// exceptions, and must outlive the run); wait() returns when all have returned. False, with
+    /// nothing started, where the pool is busy or would be too large.
+    bool start(unsigned first, unsigned workers, const std::function<void(unsigned)>& run) {
         const unsigned needed = workers - first;
         {
             std::lock_guard lock(mutex_);
@@ -81,32 +80,23 @@ class Pool {
             generation_.fetch_add(1, std::memory_order_release);
         }
         wake_.notify_all();
-        // The run's workers refer to the caller's frame: wait for them even where the caller's
-        // part throws (a progress callback may), then pass its exception on.
-        std::exception_ptr thrown;
-        try {
-            caller();
-        } catch (...) {
-            thrown = std::current_exception();
-        }
+        return true;
+    }
+    void wait() {
         std::unique_lock lock(mutex_);
         done_.wait(lock, [&] { return remaining_ == 0; });
         job_ = nullptr;
         busy_ = false;
-        lock.unlock();
-        if (thrown) std::rethrow_exception(thrown);
-        return true;
     }
 
   private:
     Pool() = default;
 
     void grow(unsigned threads) {  // under mutex_
-        while (threads_.size() < threads) {
-            const unsigned index = static_cast<unsigned>(threads_.size());
+        for (; size_ < threads; ++size_) {
             // It starts idle at the current run count: the run being set up is new to it.
             const std::uint64_t seen = generation_.load(std::memory_order_relaxed);
-            threads_.emplace_back([this, index, seen] { loop(index, seen); }).detach();
+            std::thread([this, index = size_, seen] { loop(index, seen); }).detach();
         }
     }
 
@@ -138,7 +128,7 @@ class Pool {
 
     std::mutex mutex_;
     std::condition_variable wake_, done_;
-    std::vector<std::thread> threads_;
+    unsigned size_ = 0;  ///< threads started (detached: the pool is never destroyed)
     std::atomic<std::uint64_t> generation_{0};  ///< one more at each run's start
     bool busy_ = false;
     const std::function<void(unsigned)>* job_ = nullptr;
@@ -185,23 +175,27 @@ void run_workers(unsigned workers, const std::function<void(unsigned)>& fn,
             lock.lock();
         }
     };
-    if (first_thread == workers) {
-        caller();
-    } else if (!Pool::get().run(first_thread, workers, run, caller)) {
-        // The pool is busy (a run on another thread, or this one nested in a worker): threads of
-        // this run's own.
-        std::vector<std::thread> own;
+    // The other workers on the pool's threads, or (the pool busy: a run on another thread, or
+    // this one nested in a worker) on threads of this run's own.
+    Pool* const pool = first_thread < workers ? &Pool::get() : nullptr;
+    const std::function<void(unsigned)> job = run;  // the pool holds its address until wait()
+    const bool pooled = pool != nullptr && pool->start(first_thread, workers, job);
+    std::vector<std::thread> own;
+    if (!pooled) {
         own.reserve(workers);
         for (unsigned k = first_thread; k < workers; ++k) own.emplace_back(run, k);
-        std::exception_ptr thrown;  // the poll's, passed on once the workers have returned
-        try {
-            caller();
-        } catch (...) {
-            thrown = std::current_exception();
-        }
-        for (std::thread& t : own) t.join();
-        if (thrown) std::rethrow_exception(thrown);
     }
+    // The workers refer to this frame: they are waited for even where the poll throws (a progress
+    // callback may), whose exception comes after them.
+    std::exception_ptr thrown;
+    try {
+        caller();
+    } catch (...) {
+        thrown = std::current_exception();
+    }
+    if (pooled) pool->wait();
+    for (std::thread& t : own) t.join();
+    if (thrown) std::rethrow_exception(thrown);
     if (error) std::rethrow_exception(error);
 }
 

@@ -160,7 +160,9 @@ TEST(RunWorkers, AChildProcessAfterForkHasItsOwnThreads) {
     const pid_t child = fork();
     ASSERT_GE(child, 0);
     if (child == 0) {
-        // The parent's pool threads do not exist here: a run must not wait for them.
+        // The parent's pool threads do not exist here: a run must not wait for them (were it to,
+        // the alarm ends the child and the test fails instead of hanging).
+        alarm(20);
         const bool ok = counts_of(3) == std::vector<int>(3, 1);
         _exit(ok ? 0 : 1);
     }
