@@ -525,6 +525,68 @@ TEST(IntervalBatchF32, ConstantsAndSharedOperands) {
     }
 }
 
+/// Constants to multiply by in the binary32 walk: not binary32 numbers (their lanes are no point),
+/// binary32 ones (points), both signs, either zero, a subnormal (its lower bound rounds to 0), and
+/// bounds that round to infinity.
+const std::vector<double>& mul_constants() {
+    static const std::vector<double> c = {
+        2.618033988749895, 4.0,     0.1,      -0.1,  -3.5, 0.0, -0.0, 1e-310,
+        -1e-310,           DBL_MAX, -DBL_MAX, 1e300, 0.5};
+    return c;
+}
+
+/// c·x and x·c for each such constant c over every special box x (signed zeros, infinite and
+/// empty bounds, subnormals, undefined), and c·(c·x): the binary32 result holds the double one.
+TEST(IntervalBatchF32, ProductsByConstants) {
+    const std::vector<UpInterval> s = special_boxes();
+    Boxes boxes;
+    for (const UpInterval& x : s) boxes.push_back({x, x, x});
+    for (double c : mul_constants()) {
+        for (bool first : {true, false}) {
+            const std::uint32_t ka = first ? 0 : 1, kb = first ? 1 : 0;
+            const std::vector<Instr> list = {{Op::Const, 0, 0, 0, c},
+                                             {Op::VarX, 1, 0, 0, 0.0},
+                                             {Op::Mul, 2, ka, kb, 0.0},
+                                             {Op::Mul, 3, first ? 0u : 2u, first ? 2u : 0u, 0.0}};
+            EXPECT_EQ(f32_op_failure(list, boxes), "") << c << (first ? " c·x" : " x·c");
+        }
+    }
+}
+
+/// A register that a Const wrote and then an op wrote again: products by it are those of the op's
+/// lanes (a walk that took the register for the constant still would multiply wrongly).
+TEST(IntervalBatchF32, ProductsByARegisterAConstLeft) {
+    const std::vector<UpInterval> s = special_boxes();
+    Boxes pairs;  // every pair (x, y) of special boxes
+    for (const UpInterval& x : s) {
+        for (const UpInterval& y : s) pairs.push_back({x, y, x});
+    }
+    for (double c : mul_constants()) {
+        const std::vector<Instr> list = {{Op::Const, 0, 0, 0, c}, {Op::VarX, 1, 0, 0, 0.0},
+                                         {Op::Mul, 2, 1, 0, 0.0}, {Op::VarY, 0, 0, 0, 0.0},
+                                         {Op::Mul, 3, 1, 0, 0.0}, {Op::Mul, 0, 0, 2, 0.0}};
+        for (std::size_t k = 0; k < pairs.size(); k += kIntervalLanes) {
+            const Boxes boxes(pairs.begin() + static_cast<std::ptrdiff_t>(k),
+                              pairs.begin() + static_cast<std::ptrdiff_t>(
+                                                  std::min(pairs.size(), k + kIntervalLanes)));
+            EXPECT_EQ(f32_op_failure(list, boxes), "") << c;
+        }
+    }
+}
+
+/// Random constants in either slot of a product over random boxes: the binary32 result holds
+/// the double one over the same binary32 operands.
+RC_GTEST_PROP(IntervalBatchF32Property, ProductsByRandomConstantsHoldTheDoubleInterval, ()) {
+    const Boxes boxes = *gen_boxes();
+    const double c = *testing::gen_finite_double();
+    const bool first = *rc::gen::arbitrary<bool>();
+    const std::vector<Instr> list = {{Op::VarX, 0, 0, 0, 0.0},
+                                     {Op::Const, 1, 0, 0, c},
+                                     {Op::Mul, 2, first ? 1u : 0u, first ? 0u : 1u, 0.0}};
+    const std::string m = f32_op_failure(list, boxes);
+    RC_ASSERT(m == "");
+}
+
 /// Every op over random boxes (the operands x and y of each lane), to a new register and in
 /// place: the binary32 result holds the double one over the same binary32 operands.
 RC_GTEST_PROP(IntervalBatchF32Property, EachOpHoldsTheDoubleIntervalOnRandomBoxes, ()) {
