@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <exception>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -57,9 +58,14 @@ class Pool {
     }
 
     /// Grows the pool to `threads` threads (at most kMostPooled), each spinning for kSpin first.
+    /// A thread that cannot be started (std::system_error) leaves the pool smaller: a run starts
+    /// what it lacks then.
     void reserve(unsigned threads) {
         std::lock_guard lock(mutex_);
-        grow(std::min(threads, kMostPooled));
+        try {
+            grow(std::min(threads, kMostPooled));
+        } catch (const std::system_error&) {
+        }
     }
 
     /// Starts run(k) for k in [first, workers) on the pool's threads (run catches its own
@@ -176,15 +182,28 @@ void run_workers(unsigned workers, const std::function<void(unsigned)>& fn,
         }
     };
     // The other workers on the pool's threads, or (the pool busy: a run on another thread, or
-    // this one nested in a worker) on threads of this run's own.
-    Pool* const pool = first_thread < workers ? &Pool::get() : nullptr;
-    const std::function<void(unsigned)> job = run;  // the pool holds its address until wait()
-    const bool pooled = pool != nullptr && pool->start(first_thread, workers, job);
+    // this one nested in a worker) on threads of this run's own; those that no thread can be had
+    // for (std::system_error), here, before the caller's part (fn waits for no other k).
+    std::function<void(unsigned)> job;  // the pool holds its address until wait()
+    bool pooled = false;
+    unsigned started = first_thread;  // workers [first_thread, started) are on threads
+    if (first_thread < workers) {
+        job = run;
+        try {
+            pooled = Pool::get().start(first_thread, workers, job);
+        } catch (const std::system_error&) {
+        }
+        if (pooled) started = workers;
+    }
     std::vector<std::thread> own;
     if (!pooled) {
         own.reserve(workers);
-        for (unsigned k = first_thread; k < workers; ++k) own.emplace_back(run, k);
+        try {
+            for (; started < workers; ++started) own.emplace_back(run, started);
+        } catch (const std::system_error&) {
+        }
     }
+    for (unsigned k = started; k < workers; ++k) run(k);
     // The workers refer to this frame: they are waited for even where the poll throws (a progress
     // callback may), whose exception comes after them.
     std::exception_ptr thrown;
@@ -193,7 +212,7 @@ void run_workers(unsigned workers, const std::function<void(unsigned)>& fn,
     } catch (...) {
         thrown = std::current_exception();
     }
-    if (pooled) pool->wait();
+    if (pooled) Pool::get().wait();
     for (std::thread& t : own) t.join();
     if (thrown) std::rethrow_exception(thrown);
     if (error) std::rethrow_exception(error);

@@ -4,7 +4,8 @@
 // all have returned: the calling thread runs k = 0 unless it polls, the others run on threads kept
 // between calls (a pool; one thread may run two k one after the other where another wakes late,
 // so fn must not wait for another k), or on threads of the call's own where the pool is busy (a
-// call on another thread, or one nested in a worker). Each worker runs in the library's
+// call on another thread, or one nested in a worker); a k that no thread can be started for runs
+// on the calling thread, before its own part. Each worker runs in the library's
 // floating-point environment (NearestScope). The first exception a worker throws is rethrown to
 // the caller after all have returned. An idle pool thread spins for a few milliseconds before it
 // sleeps (a sleeping core can be slow to wake); prestart_workers(threads) starts them early, as the

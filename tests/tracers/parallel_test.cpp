@@ -1,16 +1,19 @@
 // tests/tracers/parallel_test.cpp — run_workers and its pool of threads (tracers/parallel.h): each
 // index once, worker 0 on the calling thread, exceptions, nesting, concurrent callers, polling,
-// the floating-point environment, and a child process after fork.
+// the floating-point environment, a child process after fork, and no thread to be had.
 #include "tracers/parallel.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cfenv>
 #include <chrono>
+#include <cstdio>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -171,6 +174,54 @@ TEST(RunWorkers, AChildProcessAfterForkHasItsOwnThreads) {
     ASSERT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 0);
 }
+
+// Where no thread can be started (an address space too small for a thread's stack), each index
+// still runs once, on the calling thread, with or without polling; nothing throws or terminates.
+// In a child process, whose pool is its own (the sanitizers' shadow memory needs more room).
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+TEST(RunWorkers, WithoutThreadsEachIndexRunsOnTheCaller) {
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        alarm(20);
+        long pages = 0;  // the address space in use now
+        if (FILE* f = std::fopen("/proc/self/statm", "r")) {
+            if (std::fscanf(f, "%ld", &pages) != 1) pages = 0;
+            std::fclose(f);
+        }
+        const rlim_t used = static_cast<rlim_t>(pages) * static_cast<rlim_t>(sysconf(_SC_PAGESIZE));
+        const rlimit limit{used + (4u << 20), used + (4u << 20)};  // less than a thread's stack
+        if (pages == 0 || setrlimit(RLIMIT_AS, &limit) != 0) _exit(3);
+        // Threads that never end, until none can be started: the stacks of exited threads that
+        // the C library keeps for reuse are taken too.
+        bool threads_fail = false;
+        for (int k = 0; k < 1000 && !threads_fail; ++k) {
+            try {
+                std::thread([] {
+                    for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
+                }).detach();
+            } catch (const std::system_error&) {
+                threads_fail = true;
+            }
+        }
+        if (!threads_fail) _exit(4);  // the limit did not bite: nothing tested
+        prestart_workers(4);
+        bool ok = counts_of(4) == std::vector<int>(4, 1);
+        std::vector<std::atomic<int>> seen(3);
+        int polls = 0;
+        run_workers(
+            3, [&](unsigned k) { seen.at(k).fetch_add(1); }, [&] { ++polls; },
+            std::chrono::milliseconds(1));
+        for (auto& s : seen) ok = ok && s.load() == 1;
+        _exit(ok ? 0 : 1);
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0) << "3: no limit set, 4: threads still start, 1: an index "
+                                         "not run once";
+}
+#endif
 
 TEST(ParallelFor, CoversEveryIndexOnce) {
     std::vector<std::atomic<int>> seen(1000);
