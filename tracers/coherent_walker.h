@@ -224,6 +224,11 @@ class Walker {
     void descend_deferred(const Rect& r, double a, double b, const Ssa& list,
                           const expr::Tape* tape, Level& level, std::size_t begin, std::size_t end,
                           unsigned depth);
+    /// One of descend_deferred()'s halves: its open rays scanned at once where the list neither
+    /// folds nor prunes (the scan's segment forms, a ray each, decide what the node's box and
+    /// form over all of them would); otherwise, or where the scan does not take them, node().
+    void deferred_half(const Rect& r, double a, double b, const Ssa& list, const expr::Tape* tape,
+                       unsigned depth);
     /// A node's rectangle and parameter range, scanned with others (scan_groups).
     struct ScanGroup {
         Rect r;
