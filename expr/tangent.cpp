@@ -2,7 +2,9 @@
 #include "expr/tangent.h"
 
 #include <algorithm>
+#include <bit>
 #include <limits>
+#include <unordered_map>
 
 namespace certray::expr {
 namespace {
@@ -222,6 +224,72 @@ std::optional<TangentList> tangent_list(const std::vector<Instr>& list) {
     t.list = std::move(w.out);
     t.slots = w.slots();
     return t;
+}
+
+std::size_t share_instructions(std::vector<Instr>& list,
+                               std::span<const std::pair<std::uint32_t, std::uint32_t>> same,
+                               std::span<const std::uint32_t> keep) {
+    // Slot renaming: `same`, then each dropped repeat's slot to the earlier one's.
+    std::unordered_map<std::uint32_t, std::uint32_t> renamed(same.begin(), same.end());
+    const auto slot = [&](std::uint32_t s) {
+        const auto it = renamed.find(s);
+        return it == renamed.end() ? s : it->second;
+    };
+    // An instruction's key: op, operands as read (renamed), and the immediate's bits (Const) or
+    // the exponent (Pow, in b). The Var ops read no slot.
+    struct Key {
+        Op op;
+        std::uint32_t a, b;
+        std::uint64_t imm;
+        bool operator==(const Key&) const = default;
+    };
+    struct Hash {
+        std::size_t operator()(const Key& k) const {
+            std::size_t h = static_cast<std::size_t>(k.op);
+            for (const std::uint64_t v : {std::uint64_t{k.a}, std::uint64_t{k.b}, k.imm})
+                h = h * 0x9E3779B97F4A7C15ull + v;
+            return h;
+        }
+    };
+    std::unordered_map<Key, std::uint32_t, Hash> first;
+    std::vector<Instr> out;
+    out.reserve(list.size());
+    for (Instr in : list) {
+        const int n = arity(in.op);
+        if (n >= 1) in.a = slot(in.a);
+        if (n == 2) in.b = slot(in.b);
+        const Key key{in.op, n >= 1 ? in.a : 0, n == 2 || in.op == Op::Pow ? in.b : 0,
+                      in.op == Op::Const ? std::bit_cast<std::uint64_t>(in.imm) : 0};
+        const auto [it, fresh] = first.try_emplace(key, in.out);
+        if (!fresh && std::find(keep.begin(), keep.end(), in.out) == keep.end()) {
+            renamed[in.out] = it->second;
+            continue;
+        }
+        out.push_back(in);
+    }
+    // What the kept slots depend on, from the last instruction back.
+    std::uint32_t slots = 0;
+    for (const Instr& in : out) {
+        const int n = arity(in.op);
+        slots = std::max({slots, in.out + 1, n >= 1 ? in.a + 1 : 0, n == 2 ? in.b + 1 : 0});
+    }
+    for (const std::uint32_t k : keep) slots = std::max(slots, k + 1);
+    std::vector<bool> live(slots, false);
+    for (const std::uint32_t k : keep) live[k] = true;
+    std::vector<Instr> kept;
+    kept.reserve(out.size());
+    for (std::size_t i = out.size(); i-- > 0;) {
+        const Instr& in = out[i];
+        if (!live[in.out]) continue;
+        const int n = arity(in.op);
+        if (n >= 1) live[in.a] = true;
+        if (n == 2) live[in.b] = true;
+        kept.push_back(in);
+    }
+    std::reverse(kept.begin(), kept.end());
+    const std::size_t dropped = list.size() - kept.size();
+    list = std::move(kept);
+    return dropped;
 }
 
 }  // namespace certray::expr

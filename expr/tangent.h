@@ -23,8 +23,11 @@
 // those inputs held fixed. Reference: docs/theory/coherent.md ("Mean value forms in lanes").
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include "expr/tape.h"
@@ -48,5 +51,18 @@ std::optional<TangentList> tangent_list(const std::vector<Instr>& list);
 /// with kinks.
 enum class TangentKind : std::uint8_t { None, Smooth, Kinked };
 TangentKind tangent_kind(const std::vector<Instr>& list);
+
+/// An SSA list made shorter for the slots `keep` (the slots read after a walk): first every
+/// operand read from a slot `same[k].first` reads `same[k].second` instead (two inputs the caller
+/// fills with the same values, such as the seeds of a tangent list taken twice); then an
+/// instruction that repeats an earlier one (the same op on the same operand slots, with the same
+/// immediate or exponent) is dropped, its readers reading the earlier one's slot, unless it writes
+/// a slot of `keep`; last, every instruction that no slot of `keep` depends on is dropped. Walked
+/// over the same inputs, every slot of `keep` holds bit for bit what it held before, in any walk
+/// (an instruction's result is a function of its op and its operands' values). Returns how many
+/// instructions were dropped.
+std::size_t share_instructions(std::vector<Instr>& list,
+                               std::span<const std::pair<std::uint32_t, std::uint32_t>> same,
+                               std::span<const std::uint32_t> keep);
 
 }  // namespace certray::expr

@@ -1,7 +1,8 @@
 // tests/expr/tangent_test.cpp — the tangent list (expr/tangent.h): derivatives along a direction
 // that calculus gives, enclosures of the MPFR derivative at random points of random boxes, the
 // same bits in the lanes as in the scalar walk, Clarke's branches at the kinks (min, max, abs), the
-// mean value form along segments against MPFR, and no list for ops with jumps.
+// mean value form along segments against MPFR, no list for ops with jumps, and the second-order
+// list made shorter by share_instructions with the same bits.
 #include "expr/tangent.h"
 
 #include <gtest/gtest.h>
@@ -282,6 +283,156 @@ RC_GTEST_PROP(TangentProperty, LanesGiveTheScalarWalksBits, ()) {
         const Slope s = run_tangent(*tl, boxes[k], dirs[k]);
         RC_ASSERT(same_bits(lane(regs[tl->value], k), s.value));
         RC_ASSERT(same_bits(lane(regs[tl->derivative], k), s.derivative));
+    }
+}
+
+/// The tangent list of tl taken again with its seeds shared (as the renderer's second-order
+/// list): tl's list with its derivative copied into a last slot (two negations), differentiated.
+/// `shared`: made shorter by share_instructions, its second seeds read as tl's.
+struct Twice {
+    TangentList list;
+    std::size_t dropped = 0;
+};
+std::optional<Twice> tangent_twice(const TangentList& tl, bool shared) {
+    std::vector<Instr> list = tl.list;
+    Instr n{};
+    n.op = Op::Neg;
+    n.a = tl.derivative;
+    n.out = tl.slots;
+    list.push_back(n);
+    n.a = tl.slots;
+    n.out = tl.slots + 1;
+    list.push_back(n);
+    std::optional<TangentList> second = tangent_list(list);
+    if (!second) return std::nullopt;
+    Twice t{*second, 0};
+    if (shared) {
+        const std::pair<std::uint32_t, std::uint32_t> same[3] = {{second->seed[0], tl.seed[0]},
+                                                                 {second->seed[1], tl.seed[1]},
+                                                                 {second->seed[2], tl.seed[2]}};
+        const std::uint32_t keep[3] = {tl.value, tl.derivative, second->derivative};
+        t.dropped = share_instructions(t.list.list, same, keep);
+    }
+    return t;
+}
+
+/// tl's value and derivative and the second list's derivative over a box, every seed holding u,
+/// by the scalar walk.
+std::array<UpInterval, 3> run_twice(const TangentList& tl, const TangentList& second,
+                                    const std::array<UpInterval, 3>& box,
+                                    const std::array<double, 3>& u) {
+    RoundingScope up;
+    std::vector<UpInterval> r(second.slots);
+    for (int c = 0; c < 3; ++c) r[tl.seed[c]] = r[second.seed[c]] = UpInterval(u[c]);
+    detail::run<UpInterval>(second.list, box, r.data());
+    return {r[tl.value], r[tl.derivative], r[second.derivative]};
+}
+
+TEST(Tangent, SharedInstructionsDropRepeatsAndWhatNothingReads) {
+    // x·y twice, a dead product and a repeated constant: the repeats read as the first, the dead
+    // one gone, the kept slots where they were.
+    std::vector<Instr> list = {
+        {Op::VarX, 0, 0, 0, 0},   {Op::VarY, 1, 0, 0, 0},  {Op::Mul, 2, 0, 1, 0},
+        {Op::Mul, 3, 0, 1, 0},    {Op::Const, 4, 0, 0, 2}, {Op::Const, 5, 0, 0, 2},
+        {Op::Mul, 6, 3, 5, 0},    {Op::Add, 7, 2, 6, 0},   {Op::Mul, 8, 7, 7, 0},
+        {Op::Const, 9, 0, 0, -2}, {Op::Mul, 10, 0, 0, 0},
+    };
+    const std::vector<Instr> before = list;
+    const std::uint32_t keep[2] = {8, 3};               // 3 repeats 2, and is kept as it is
+    EXPECT_EQ(share_instructions(list, {}, keep), 3u);  // 5 (a repeat), 9 and 10 (dead), none else
+    ASSERT_EQ(list.size(), 8u);
+    for (const Instr& in : list) {
+        EXPECT_NE(in.out, 5u);
+        EXPECT_NE(in.out, 9u);
+        EXPECT_NE(in.out, 10u);
+        if (in.out == 6u) EXPECT_EQ(in.b, 4u);  // read the first 2
+    }
+    // The kept slots, bit for bit, over a box.
+    const std::array<UpInterval, 3> box = {UpInterval(-1.5, 0.25), UpInterval(0.1, 3.0),
+                                           UpInterval(0.0)};
+    std::vector<UpInterval> a(11), b(11);
+    {
+        RoundingScope up;
+        detail::run<UpInterval>(before, box, a.data());
+        detail::run<UpInterval>(list, box, b.data());
+    }
+    EXPECT_TRUE(same_bits(a[8], b[8]));
+    EXPECT_TRUE(same_bits(a[3], b[3]));
+    // (x·y + x·y·2)² = 9x²y², 36 at (−1, 2), a point of the box.
+    EXPECT_LE(b[8].lower(), 36.0);
+    EXPECT_GE(b[8].upper(), 36.0);
+}
+
+TEST(Tangent, SharedSeedsShortenTheSecondOrderList) {
+    // g″ of f = x·y·z + x³ along u twice: with the second seeds read as the first, the second
+    // list's derivatives of the values along them are the first list's (dropped), and so is the
+    // second of each product's a′·b′; the calculus value of g″ at a point is in both lists'
+    // enclosures, bit for bit the same.
+    Graph g;
+    auto [x, y, z] = vars(g);
+    const Tape t = tape_of(x * y * z + x * x * x);
+    const std::optional<TangentList> tl = tangent_list(t.ssa());
+    ASSERT_TRUE(tl.has_value());
+    const std::optional<Twice> plain = tangent_twice(*tl, false);
+    const std::optional<Twice> shared = tangent_twice(*tl, true);
+    ASSERT_TRUE(plain && shared);
+    EXPECT_GT(shared->dropped, 0u);
+    EXPECT_EQ(shared->list.list.size() + shared->dropped, plain->list.list.size());
+    const std::array<double, 3> u = {0.5, -2.0, 1.25};
+    const std::array<UpInterval, 3> p = point(0.75, 1.5, -0.5);
+    const auto e = run_twice(*tl, plain->list, p, u);
+    const auto s = run_twice(*tl, shared->list, p, u);
+    for (int k = 0; k < 3; ++k) EXPECT_TRUE(same_bits(e[k], s[k])) << k;
+    // g″ = 2·(ux·uy·z + ux·y·uz + x·uy·uz) + 6·x·ux² at the point.
+    const double g2 =
+        2 * (u[0] * u[1] * -0.5 + u[0] * 1.5 * u[2] + 0.75 * u[1] * u[2]) + 6 * 0.75 * u[0] * u[0];
+    EXPECT_LE(s[2].lower(), g2);
+    EXPECT_GE(s[2].upper(), g2);
+}
+
+/// Over random lists, boxes and directions, the second-order list with shared seeds gives the
+/// unshared one's g, g′ and g″ bit for bit, in the scalar walk and in binary32 lanes.
+RC_GTEST_PROP(TangentProperty, SharedSeedsKeepTheSecondOrderBits, ()) {
+    const Tape t(*testing::gen_dag(16, /*smooth=*/true));
+    const std::optional<TangentList> tl = tangent_list(t.ssa());
+    RC_ASSERT(tl.has_value());
+    const std::optional<Twice> plain = tangent_twice(*tl, false);
+    const std::optional<Twice> shared = tangent_twice(*tl, true);
+    RC_ASSERT(plain.has_value() && shared.has_value());
+    RC_TAG(shared->dropped > 0 ? "instructions dropped" : "none dropped");
+    const int n = *rc::gen::inRange(1, kIntervalLanes + 1);
+    std::array<IntervalLanesF, 3> in{};
+    std::vector<IntervalLanesF> ra(plain->list.slots), rb(shared->list.slots);
+    for (int k = 0; k < n; ++k) {
+        std::array<UpInterval, 3> box;
+        std::array<double, 3> u;
+        for (int c = 0; c < 3; ++c) {
+            const auto [lo, hi] = *testing::gen_bounds();
+            box[c] = UpInterval(lo, hi);
+            u[c] = *testing::gen_finite_double();
+            set_lane(in[c], k, box[c]);
+            for (auto* r : {&ra, &rb}) {
+                set_lane((*r)[tl->seed[c]], k, UpInterval(u[c]));
+                set_lane((*r)[plain->list.seed[c]], k, UpInterval(u[c]));
+            }
+        }
+        const auto e = run_twice(*tl, plain->list, box, u);
+        const auto s = run_twice(*tl, shared->list, box, u);
+        for (int j = 0; j < 3; ++j) RC_ASSERT(same_bits(e[j], s[j]));
+    }
+    {
+        RoundingScope up;
+        run_interval_batch(plain->list.list.data(),
+                           plain->list.list.data() + plain->list.list.size(), in.data(), ra.data(),
+                           n);
+        run_interval_batch(shared->list.list.data(),
+                           shared->list.list.data() + shared->list.list.size(), in.data(),
+                           rb.data(), n);
+    }
+    for (int k = 0; k < n; ++k) {
+        for (const std::uint32_t slot : {tl->value, tl->derivative, plain->list.derivative}) {
+            RC_ASSERT(same_bits(lane(ra[slot], k), lane(rb[slot], k)));
+        }
     }
 }
 
