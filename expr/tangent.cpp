@@ -92,7 +92,7 @@ std::optional<TangentList> tangent_list(const std::vector<Instr>& list) {
     Writer w(end);
     for (std::uint32_t& s : t.seed) s = w.reserve();
     std::vector<std::uint32_t> d(end, kZero);  // per slot of the list: its derivative's slot
-    std::uint32_t two = kZero, one = kZero, zero = kZero, minus_one = kZero, big = kZero;
+    std::uint32_t one = kZero, zero = kZero, minus_one = kZero, big = kZero;
     const auto constant = [&](std::uint32_t& slot, double c) {
         if (slot == kZero) slot = w.constant(c);
         return slot;
@@ -147,10 +147,10 @@ std::optional<TangentList> tangent_list(const std::vector<Instr>& list) {
                     r = w.emit(Op::Mul, in.a, db);
                 }
                 break;
-            case Op::Square:  // (2·a)·a′
+            case Op::Square:  // a·a′ doubled (exact): a sum where a product by 2 cost more
                 if (da != kZero) {
-                    if (two == kZero) two = w.constant(2.0);
-                    r = w.emit(Op::Mul, w.emit(Op::Mul, two, in.a), da);
+                    const std::uint32_t p = w.emit(Op::Mul, in.a, da);
+                    r = w.emit(Op::Add, p, p);
                 }
                 break;
             case Op::Div:  // (a′ − q·b′)/b with q = a/b
