@@ -150,11 +150,13 @@ void Walker::clip_to_line(const LinearForm& lin, double& a, double& b) const {
         const double hi = p.upper() + std::max(u * q.lower(), u * q.upper());
         return solid_ ? lo < 0 : lo <= 0 && 0 <= hi;
     };
-    // Its ends lie among the roots of the bounds' lines (on u ≥ 0 and on u ≤ 0 each bound is one).
-    double cut[7] = {u0, u1};
-    int n = 2;
+    // Its ends lie among the roots of the bounds' lines (on u ≥ 0 and on u ≤ 0 each bound is one):
+    // up to five inside (u0, u1), sorted between u0 and u1 by a network of minima and maxima
+    // (the padding u1 sorts last), without the branches an insertion took at random.
+    double inner[5] = {u1, u1, u1, u1, u1};
+    int m = 0;
     const auto add = [&](double u) {
-        if (u > u0 && u < u1) cut[n++] = u;
+        if (u > u0 && u < u1) inner[m++] = u;
     };
     if (u0 < 0 && u1 > 0) add(0);
     for (const double c : {q.lower(), q.upper()}) {
@@ -162,9 +164,18 @@ void Walker::clip_to_line(const LinearForm& lin, double& a, double& b) const {
         add(-p.lower() / c);
         if (!solid_) add(-p.upper() / c);
     }
-    for (int k = 1; k < n; ++k) {  // a handful: insertion
-        for (int l = k; l > 0 && cut[l] < cut[l - 1]; --l) std::swap(cut[l], cut[l - 1]);
-    }
+    const auto order = [&](int i, int j) {
+        const double x = inner[i], y = inner[j];
+        inner[i] = std::min(x, y);
+        inner[j] = std::max(x, y);
+    };
+    // Five inputs, nine comparators (Knuth, TAOCP 5.3.4).
+    order(0, 1), order(3, 4), order(2, 4), order(2, 3), order(0, 3);
+    order(0, 2), order(1, 4), order(1, 3), order(1, 2);
+    double cut[7] = {u0};
+    for (int k = 0; k < m; ++k) cut[k + 1] = inner[k];
+    cut[m + 1] = u1;
+    const int n = m + 2;
     int first = -1, last = -1;  // the first and last cuts where it may vanish, or just after
     for (int k = 0; k < n; ++k) {
         const bool here = may(cut[k]) || (k + 1 < n && may(0.5 * cut[k] + 0.5 * cut[k + 1]));
