@@ -229,10 +229,12 @@ void Walker::ray_form_lanes_in(LaneFile<L>& file, const expr::TangentList& tl, R
             boxes[f * kLanes + 4].hi[k] = forms[f].c[k].upper();
         }
     }
-    load_lanes(file, boxes, lanes);
-    if (file.regs.size() < tl.slots) file.regs.resize(tl.slots);
+    LaneList<L>* ll = lane_list<L>(tl.list);
+    LaneFile<L>& lf = ll != nullptr ? ll->file : file;
+    load_lanes(lf, boxes, lanes, ll);
+    if (lf.regs.size() < tl.slots) lf.regs.resize(tl.slots);
     for (int k = 0; k < 3; ++k) {
-        L& seed = file.regs[tl.seed[k]];
+        L& seed = lf.regs[tl.seed[k]];
         for (int f = 0; f < n; ++f) {
             for (int l = 0; l < 3; ++l) {
                 expr::set_lane(seed, f * kLanes + l, UpInterval(l == k ? 1.0 : 0.0));
@@ -241,22 +243,23 @@ void Walker::ray_form_lanes_in(LaneFile<L>& file, const expr::TangentList& tl, R
             expr::set_lane(seed, f * kLanes + 4, UpInterval(0.0));
         }
     }
-    expr::run_interval_batch(tl.list.data(), tl.list.data() + tl.list.size(), file.in.data(),
-                             file.regs.data(), lanes);
+    const Ssa& walked = ll != nullptr ? ll->core : tl.list;
+    expr::run_interval_batch(walked.data(), walked.data() + walked.size(), lf.in.data(),
+                             lf.regs.data(), lanes);
     for (int f = 0; f < n; ++f) {
         RayForm& form = forms[f];
-        form.m = expr::lane(file.regs[tl.value], f * kLanes + 4);
-        const UpInterval v = expr::lane(file.regs[tl.value], f * kLanes);
+        form.m = expr::lane(lf.regs[tl.value], f * kLanes + 4);
+        const UpInterval v = expr::lane(lf.regs[tl.value], f * kLanes);
         form.ok = !v.is_empty() && v.defined;
         for (int l = 0; l < 4 && form.ok; ++l) {
-            form.g[l] = expr::lane(file.regs[tl.derivative], f * kLanes + l);
+            form.g[l] = expr::lane(lf.regs[tl.derivative], f * kLanes + l);
             form.ok = finite(form.g[l]);
         }
     }
 }
 
 template <class L>
-void Walker::load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m) {
+void Walker::load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m, const LaneList<L>* ll) {
     static_assert(expr::kIntervalLanes <= 64, "one word of decorations per register");
     // The walks hold the upward mode, in which set_bounds_upward rounds binary32 bounds outward
     // without set_bounds' branches (MXCSR's field on x86-64: the x87 word, which fegetround
@@ -268,18 +271,32 @@ void Walker::load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m) {
 #endif
     // Box by box (they lie in memory so), without a branch: a lane that is not lo ≤ hi gets
     // empty()'s bounds (NaN, which both conversions keep) and no decoration, as set_lane would.
+    // Axis c goes to file.in[c], or to the first slot of the LaneList's variable c.
+    L* to[3];
+    for (int c = 0; c < 3; ++c) {
+        to[c] = ll != nullptr && !ll->var[c].empty() ? &file.regs[ll->var[c][0]] : &file.in[c];
+    }
     const UpInterval empty = UpInterval::empty();
     std::uint64_t def[3] = {0, 0, 0};
     for (int k = 0; k < m; ++k) {
         for (int c = 0; c < 3; ++c) {
             const double lo = boxes[k].lo[c], hi = boxes[k].hi[c];
             const bool ok = lo <= hi;
-            expr::set_bounds_upward(file.in[c], k, ok ? lo : empty.lower(),
-                                    ok ? hi : empty.upper());
+            expr::set_bounds_upward(*to[c], k, ok ? lo : empty.lower(), ok ? hi : empty.upper());
             def[c] |= std::uint64_t{ok} << k;
         }
     }
-    for (int c = 0; c < 3; ++c) file.in[c].defined[0] = def[c];
+    for (int c = 0; c < 3; ++c) to[c]->defined[0] = def[c];
+    if (ll == nullptr) return;
+    // A list that reads a variable in several slots (as no tape's does): copies.
+    for (int c = 0; c < 3; ++c) {
+        for (std::size_t v = 1; v < ll->var[c].size(); ++v) {
+            L& x = file.regs[ll->var[c][v]];
+            std::copy_n(to[c]->lo, m, x.lo);
+            std::copy_n(to[c]->hi, m, x.hi);
+            x.defined[0] = def[c];
+        }
+    }
 }
 
 void Walker::eval_lanes(const Ssa& list, const LaneBox* boxes, std::size_t n,
@@ -292,22 +309,27 @@ void Walker::eval_lanes(const Ssa& list, const LaneBox* boxes, std::size_t n,
 }
 
 template <class L>
-void Walker::eval_lanes_in(LaneFile<L>& file, const Ssa& list, const LaneBox* boxes, std::size_t n,
-                           std::vector<UpInterval>& out, const Level* fold) {
+const LaneFile<L>& Walker::eval_lanes_in(LaneFile<L>& file, const Ssa& list, const LaneBox* boxes,
+                                         std::size_t n, std::vector<UpInterval>& out,
+                                         const Level* fold) {
     if (fold != nullptr && fold->folded.list.empty()) fold = nullptr;
-    const Ssa& walked = fold != nullptr ? fold->folded.list : list;
+    const Ssa& listed = fold != nullptr ? fold->folded.list : list;
+    LaneList<L>* ll = fold == nullptr ? lane_list<L>(list) : nullptr;
+    LaneFile<L>& lf = ll != nullptr ? ll->file : file;
+    const Ssa& walked = ll != nullptr ? ll->core : listed;
     // The folded list's slots (and its fixed ones) are the list's: fewer than its length.
-    if (file.regs.size() < list.size()) file.regs.resize(list.size());
+    if (lf.regs.size() < list.size()) lf.regs.resize(list.size());
     if (out.size() < n) out.resize(n);
-    const std::uint32_t f = walked.back().out;
+    const std::uint32_t f = listed.back().out;
     for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
         const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
-        load_lanes(file, boxes + k0, m);
-        if (fold != nullptr) load_fixed(file, *fold, m);
-        expr::run_interval_batch(walked.data(), walked.data() + walked.size(), file.in.data(),
-                                 file.regs.data(), m);
-        for (int k = 0; k < m; ++k) out[k0 + k] = expr::lane(file.regs[f], k);
+        load_lanes(lf, boxes + k0, m, ll);
+        if (fold != nullptr) load_fixed(lf, *fold, m);
+        expr::run_interval_batch(walked.data(), walked.data() + walked.size(), lf.in.data(),
+                                 lf.regs.data(), m);
+        for (int k = 0; k < m; ++k) out[k0 + k] = expr::lane(lf.regs[f], k);
     }
+    return lf;
 }
 
 template <class L>
@@ -422,23 +444,28 @@ void Walker::eval_tangent_lanes_in(LaneFile<L>& file, const expr::TangentList& t
                                    std::vector<UpInterval>* curvatures) {
     // With `second` (second_order_list(tl)), its list is walked: it keeps tl's slots (g and g′)
     // and adds g″ in its derivative slot, into `curvatures`.
-    const std::vector<expr::Instr>& walked = second != nullptr ? second->list : tl.list;
+    const std::vector<expr::Instr>& listed = second != nullptr ? second->list : tl.list;
     const std::uint32_t slots = second != nullptr ? second->slots : tl.slots;
-    if (file.regs.size() < slots) file.regs.resize(slots);
+    // A LaneList where no fixed values are loaded (`fold` with a folded list walks its own).
+    LaneList<L>* ll =
+        fold == nullptr || fold->folded.fixed.empty() ? lane_list<L>(listed) : nullptr;
+    LaneFile<L>& lf = ll != nullptr ? ll->file : file;
+    const std::vector<expr::Instr>& walked = ll != nullptr ? ll->core : listed;
+    if (lf.regs.size() < slots) lf.regs.resize(slots);
     if (values.size() < n) values.resize(n);
     if (slopes.size() < n) slopes.resize(n);
     if (curvatures != nullptr && curvatures->size() < n) curvatures->resize(n);
     for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
         const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
-        load_lanes(file, boxes + k0, m);
-        if (fold != nullptr) load_fixed(file, *fold, m);  // none where the level has no folded list
+        load_lanes(lf, boxes + k0, m, ll);
+        if (fold != nullptr) load_fixed(lf, *fold, m);  // none where the level has no folded list
         // The seeds (both lists' with `second`): each lane's direction, a point (defined),
         // rounded outward.
         const std::uint64_t lanes = m == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << m) - 1;
         for (const expr::TangentList* list : {&tl, second}) {
             if (list == nullptr) continue;
             for (int c = 0; c < 3; ++c) {
-                L& seed = file.regs[list->seed[c]];
+                L& seed = lf.regs[list->seed[c]];
                 for (int k = 0; k < m; ++k) {
                     const double d = dirs[k0 + k][c];
                     expr::set_bounds_upward(seed, k, d, d);
@@ -446,21 +473,21 @@ void Walker::eval_tangent_lanes_in(LaneFile<L>& file, const expr::TangentList& t
                 seed.defined[0] |= lanes;
             }
         }
-        expr::run_interval_batch(walked.data(), walked.data() + walked.size(), file.in.data(),
-                                 file.regs.data(), m);
+        expr::run_interval_batch(walked.data(), walked.data() + walked.size(), lf.in.data(),
+                                 lf.regs.data(), m);
         for (int k = 0; k < m; ++k) {
-            values[k0 + k] = expr::lane(file.regs[tl.value], k);
-            slopes[k0 + k] = expr::lane(file.regs[tl.derivative], k);
+            values[k0 + k] = expr::lane(lf.regs[tl.value], k);
+            slopes[k0 + k] = expr::lane(lf.regs[tl.derivative], k);
             if (curvatures != nullptr) {
-                (*curvatures)[k0 + k] = expr::lane(file.regs[second->derivative], k);
+                (*curvatures)[k0 + k] = expr::lane(lf.regs[second->derivative], k);
             }
         }
     }
 }
 
 // split_screen() (tracers/coherent_walk.cpp) walks the quarters' boxes in double lanes.
-template void Walker::eval_lanes_in(LaneFile<expr::IntervalLanes>& file, const Ssa& list,
-                                    const LaneBox* boxes, std::size_t n,
-                                    std::vector<UpInterval>& out, const Level* fold);
+template const LaneFile<expr::IntervalLanes>& Walker::eval_lanes_in(
+    LaneFile<expr::IntervalLanes>& file, const Ssa& list, const LaneBox* boxes, std::size_t n,
+    std::vector<UpInterval>& out, const Level* fold);
 
 }  // namespace certray::tracers::detail::coherent

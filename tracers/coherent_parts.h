@@ -180,6 +180,43 @@ struct LaneFile {
     std::vector<L> regs;
 };
 
+/// A list that the walks take again and again (the tape's own, its tangent and second-order
+/// lists) with registers of its own: its constants are written into them once, in every lane,
+/// and each walk loads its boxes straight into its variables' slots, so that a walk runs only
+/// the rest (`core`), with the same bits in every slot. The Const and Var steps cost a walk about
+/// as much as its arithmetic ones (7 of Barth's sextic's 25 instructions).
+template <class L>
+struct LaneList {
+    Ssa core;                           ///< the list without its Const and Var instructions
+    std::vector<std::uint32_t> var[3];  ///< the slots its VarX, VarY and VarZ instructions write
+    LaneFile<L> file;                   ///< its registers (file.in is not read)
+};
+
+/// The LaneList of `list` (SSA, its slots below `slots`): each constant as the walks' Const step
+/// writes it (UpInterval(imm), rounded outward in binary32 lanes), in all kIntervalLanes lanes.
+template <class L>
+LaneList<L> make_lane_list(const Ssa& list, std::uint32_t slots) {
+    LaneList<L> ll;
+    ll.file.regs.resize(slots);
+    for (const expr::Instr& in : list) {
+        switch (in.op) {
+            case expr::Op::Const:
+                for (int k = 0; k < expr::kIntervalLanes; ++k)
+                    expr::set_lane(ll.file.regs[in.out], k, UpInterval(in.imm));
+                break;
+            case expr::Op::VarX:
+            case expr::Op::VarY:
+            case expr::Op::VarZ:
+                ll.var[static_cast<int>(in.op) - static_cast<int>(expr::Op::VarX)].push_back(
+                    in.out);
+                break;
+            default:
+                ll.core.push_back(in);
+        }
+    }
+    return ll;
+}
+
 /// Whether the ops that the binary32 walk takes in double (expr::binary32_kernel: tan, floor
 /// and the other ops without a vector kernel) are at most a sixth of the instructions of
 /// `list`: where they are many, that costs more than eight lanes save (the gyroid's quarter of sin

@@ -446,14 +446,15 @@ void Walker::split_screen(const Rect& r, double a, double b, const Ssa& list,
     }
     if (m == 0) return;
     // The boxes' enclosures in double lanes: lane l is bit for bit run<UpInterval>'s over box l.
-    eval_lanes_in(d64_, list, boxes, static_cast<std::size_t>(m), split_values_, nullptr);
+    const LaneFile<expr::IntervalLanes>& lanes =
+        eval_lanes_in(d64_, list, boxes, static_cast<std::size_t>(m), split_values_, nullptr);
     if (keep_values) {
         // Lane l of every slot is what node() would leave in level.values for quarter l; kept
         // apart, as the forms' walks and the deeper levels reuse the lane file.
         for (int l = 0; l < m; ++l) {
             std::vector<UpInterval>& v = level.quarters[l];
             if (v.size() < list.size()) v.resize(list.size());
-            for (const expr::Instr& in : list) v[in.out] = expr::lane(d64_.regs[in.out], l);
+            for (const expr::Instr& in : list) v[in.out] = expr::lane(lanes.regs[in.out], l);
         }
     }
     stats.box_evals += m;

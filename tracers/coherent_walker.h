@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <type_traits>
 #include <vector>
 
 #include "expr/eval_dual_batch.h"
@@ -48,6 +49,16 @@ class Walker {
           tape_second_(options.second_order_forms ? second_order_list(tape_tangent_)
                                                   : std::nullopt),
           float_lanes_(options.float_lanes && mostly_arithmetic(tape.ssa())) {
+        // The lists walked in lanes again and again, with registers of their own: the tape's in
+        // double lanes (split_screen) and in the walks' lanes, its tangent and second-order
+        // lists in the walks' lanes.
+        d64_lists_.tape = make_lane_list<expr::IntervalLanes>(
+            tape.ssa(), static_cast<std::uint32_t>(tape.ssa().size()));
+        if (float_lanes_) {
+            make_lane_lists(f32_lists_);
+        } else {
+            make_lane_lists(d64_lists_);
+        }
         if (rays.projection() != Projection::List && options.render.aov != Aov::Depth &&
             options.depth_pixels > 0) {
             // A pixel's footprint: its angle times t (pinhole), or its side (ortho).
@@ -270,9 +281,12 @@ class Walker {
     /// Writes the fixed values of level.folded into lanes 0 … m − 1 of their slots.
     template <class L>
     void load_fixed(LaneFile<L>& file, const Level& level, int m);
+    /// eval_lanes() in `file`, or in the registers of the list's LaneList where it has one:
+    /// returns the file walked (every slot of the list holds its lanes there).
     template <class L>
-    void eval_lanes_in(LaneFile<L>& file, const Ssa& list, const LaneBox* boxes, std::size_t n,
-                       std::vector<UpInterval>& out, const Level* fold);
+    const LaneFile<L>& eval_lanes_in(LaneFile<L>& file, const Ssa& list, const LaneBox* boxes,
+                                     std::size_t n, std::vector<UpInterval>& out,
+                                     const Level* fold);
     template <class L>
     void eval_tangent_lanes_in(LaneFile<L>& file, const expr::TangentList& tl, const LaneBox* boxes,
                                const std::array<double, 3>* dirs, std::size_t n,
@@ -342,9 +356,11 @@ class Walker {
     expr::TangentKind lane_tangent_kind(const Ssa& list, unsigned depth, Level& level);
     const expr::TangentList* lane_tangent(const Ssa& list, unsigned depth, Level& level);
     /// Loads boxes[0, m) into lanes 0 … m − 1 of file.in (m ≤ kIntervalLanes): each axis the
-    /// interval ray_box gives (empty where a bound is NaN or lo > hi).
+    /// interval ray_box gives (empty where a bound is NaN or lo > hi). With `ll` (whose file is
+    /// `file`), into the slots of its variables instead.
     template <class L>
-    void load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m);
+    void load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m,
+                    const LaneList<L>* ll = nullptr);
     /// The tangent list of `list` (expr/tangent.h), or null when it has none; kept with the
     /// level whose list it is (`depth` or above).
     const expr::TangentList* tangent(const Ssa& list, unsigned depth);
@@ -716,6 +732,41 @@ class Walker {
     std::vector<UpInterval> fold_regs_;    ///< fold()'s registers (the folded list at the centre)
     LaneFile<expr::IntervalLanes> d64_;
     LaneFile<expr::IntervalLanesF> f32_;
+    /// The LaneLists (make_lane_list) of the tape's list, its tangent list and its second-order
+    /// list, in the walks' lanes (float_lanes_); the tape's also in double lanes (split_screen).
+    template <class L>
+    struct LaneLists {
+        std::optional<LaneList<L>> tape, tangent, second;
+    };
+    LaneLists<expr::IntervalLanesF> f32_lists_;
+    LaneLists<expr::IntervalLanes> d64_lists_;
+    template <class L>
+    void make_lane_lists(LaneLists<L>& lists) {
+        lists.tape = make_lane_list<L>(tape_.ssa(), static_cast<std::uint32_t>(tape_.ssa().size()));
+        if (tape_tangent_) {
+            lists.tangent = make_lane_list<L>(tape_tangent_->list, tape_tangent_->slots);
+        }
+        if (tape_second_) lists.second = make_lane_list<L>(tape_second_->list, tape_second_->slots);
+    }
+    /// The LaneList of `list` in lanes L, or null where it has none (a pruned or folded list).
+    template <class L>
+    LaneList<L>* lane_list(const Ssa& list) {
+        LaneLists<L>* lists = nullptr;
+        if constexpr (std::is_same_v<L, expr::IntervalLanes>) {
+            lists = &d64_lists_;
+        } else {
+            lists = &f32_lists_;
+        }
+        std::optional<LaneList<L>>* found = nullptr;
+        if (&list == &tape_.ssa()) {
+            found = &lists->tape;
+        } else if (tape_tangent_ && &list == &tape_tangent_->list) {
+            found = &lists->tangent;
+        } else if (tape_second_ && &list == &tape_second_->list) {
+            found = &lists->second;
+        }
+        return found != nullptr && found->has_value() ? &**found : nullptr;
+    }
 };
 
 }  // namespace certray::tracers::detail::coherent

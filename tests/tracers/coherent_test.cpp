@@ -34,6 +34,7 @@
 #include "tests/support/generators.h"
 #include "tests/support/random_dag.h"
 #include "tests/support/ray_checks.h"
+#include "tracers/coherent_parts.h"
 #include "tracers/segment_box.h"
 
 namespace certray::tracers {
@@ -1497,6 +1498,60 @@ RC_GTEST_PROP(Coherent, RandomDagsAgreeWithThePerRaySolver, ()) {
     RC_TAG(a.undecided == 0 ? "all agree" : "some undecided");
     RC_TAG(stats.folds > 0 ? "lists folded" : "no fold");
     RC_TAG(stats.folded_scans > 0 ? "wide scans on folded lists" : "no wide scan");
+}
+
+/// A LaneList (tracers/coherent_parts.h) walks the rest of a list over its own registers: with
+/// its variables' slots loaded with the boxes, every slot of the list holds what a walk of the
+/// whole list writes there, bit for bit, in binary32 and in double lanes, for any count of
+/// lanes, walk after walk (its constants are written once).
+template <class L>
+void lane_list_walks_the_list(const expr::Tape& tape, int walks) {
+    const std::vector<expr::Instr>& list = tape.ssa();
+    const auto slots = static_cast<std::uint32_t>(list.size());
+    detail::coherent::LaneList<L> ll = detail::coherent::make_lane_list<L>(list, slots);
+    std::size_t consts = 0, vars = 0;
+    for (const expr::Instr& in : list) {
+        consts += in.op == expr::Op::Const;
+        vars += in.op == expr::Op::VarX || in.op == expr::Op::VarY || in.op == expr::Op::VarZ;
+    }
+    RC_ASSERT(ll.core.size() == list.size() - consts - vars);
+    std::array<L, 3> in{};
+    std::vector<L> regs(slots);
+    for (int walk = 0; walk < walks; ++walk) {
+        const int n = *rc::gen::inRange(1, expr::kIntervalLanes + 1);
+        for (int c = 0; c < 3; ++c) {
+            for (int k = 0; k < n; ++k) {
+                const auto [lo, hi] = *testing::gen_bounds();
+                expr::set_lane(in[c], k, UpInterval(lo, hi));
+            }
+            for (const std::uint32_t v : ll.var[c]) ll.file.regs[v] = in[c];
+        }
+        RoundingScope up;
+        expr::run_interval_batch(list.data(), list.data() + list.size(), in.data(), regs.data(), n);
+        expr::run_interval_batch(ll.core.data(), ll.core.data() + ll.core.size(), ll.file.in.data(),
+                                 ll.file.regs.data(), n);
+        for (const expr::Instr& x : list) {
+            for (int k = 0; k < n; ++k) {
+                const UpInterval a = expr::lane(regs[x.out], k),
+                                 b = expr::lane(ll.file.regs[x.out], k);
+                RC_ASSERT(std::bit_cast<std::uint64_t>(a.lower()) ==
+                          std::bit_cast<std::uint64_t>(b.lower()));
+                RC_ASSERT(std::bit_cast<std::uint64_t>(a.upper()) ==
+                          std::bit_cast<std::uint64_t>(b.upper()));
+                RC_ASSERT(a.defined == b.defined);
+            }
+        }
+    }
+}
+
+RC_GTEST_PROP(Coherent, LaneListsWalkTheirListsBits, ()) {
+    const expr::Tape tape(*testing::gen_dag(20));
+    RC_TAG(std::any_of(tape.ssa().begin(), tape.ssa().end(),
+                       [](const expr::Instr& in) { return in.op == expr::Op::Const; })
+               ? "constants"
+               : "no constant");
+    lane_list_walks_the_list<expr::IntervalLanesF>(tape, 3);
+    lane_list_walks_the_list<expr::IntervalLanes>(tape, 3);
 }
 
 }  // namespace
