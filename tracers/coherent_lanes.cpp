@@ -102,7 +102,7 @@ UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double*
 void Walker::prepare_form(RayForm& f, double a, double b, const double* olo, const double* ohi,
                           const double* dlo, const double* dhi) {
     f.x = segment_box(olo, ohi, dlo, dhi, a, b);
-    f.tc = midpoint(UpInterval(a, b));
+    f.tc = middle(a, b);
     for (int k = 0; k < 3; ++k) {
         f.oc[k] = std::clamp(0.5 * olo[k] + 0.5 * ohi[k], olo[k], ohi[k]);
         f.dc[k] = std::clamp(0.5 * dlo[k] + 0.5 * dhi[k], dlo[k], dhi[k]);

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -238,6 +239,14 @@ inline bool has_choices(const Ssa& list) {
 /// two, without the division: in any rounding mode the quotient rounds to at most m − 1 exactly
 /// when the length is at most (m − 1)·w (exact: m − 1 is a power of two).
 inline bool fewer_pieces(const Ray& s, double w, int m) { return s.tmax - s.tmin <= (m - 1) * w; }
+
+/// midpoint(UpInterval(a, b)) for finite a ≤ b, bit for bit in any rounding mode, without making
+/// the interval (its checks and the cases of unbounded ends): 0.5·a + 0.5·b kept inside [a, b].
+inline double middle(double a, double b) {
+    assert(a <= b && std::isfinite(a) && std::isfinite(b));
+    const double m = 0.5 * a + 0.5 * b;
+    return m < a ? a : (m > b ? b : m);
+}
 
 /// Whether [a, b] can be halved: its middle, as the walk takes it, lies strictly inside.
 inline bool splittable(double a, double b) {

@@ -425,7 +425,7 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
                 const Piece& c = pieces_[k];
                 form_of_[k] = form_boxes_.size();
                 form_boxes_.push_back(lanes_[k]);
-                const double tc = midpoint(UpInterval(c.p, c.q));
+                const double tc = middle(c.p, c.q);
                 form_boxes_.push_back(lane_box(full, tc, tc));  // holds the point o + tc·d
                 if (k != first[ray]) add_points(form_boxes_, k);
             }
@@ -555,7 +555,7 @@ unsigned Walker::scan_groups(const ScanGroup* groups, int count, const Ssa& list
             add_points_of(points_, full, e, lo, hi);
             if (tl != nullptr && v.m >= 1) {  // the quarter's form: its box, then its centre
                 points_.push_back(quarter_boxes_[v.box + v.first]);
-                const double tc = midpoint(UpInterval(lo, hi));
+                const double tc = middle(lo, hi);
                 points_.push_back(lane_box(full, tc, tc));
             }
             quarter_dirs_.resize(points_.size(), full.d);

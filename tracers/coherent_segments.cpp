@@ -43,7 +43,7 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
             continue;
         }
         const Ray& full = px(z.i, z.j).ray;
-        const double tc = midpoint(UpInterval(z.s.tmin, z.s.tmax));
+        const double tc = middle(z.s.tmin, z.s.tmax);
         form_of_.push_back(ray);
         form_boxes_.push_back(lane_box(full, z.s.tmin, z.s.tmax));
         points_.push_back(lane_box(full, tc, tc));
@@ -118,13 +118,11 @@ void Walker::take_segment_forms(const Ssa& list, unsigned depth, Level& level) {
                 // folded list h(·, s) is, for each value s of the fixed inputs, which is what
                 // decide_monotone() needs: docs/theory/coherent.md).
                 monotone_.push_back({form_of_[l], z.s.tmin, z.s.tmax, 0, g1.upper() < 0,
-                                     midpoint(UpInterval(z.s.tmin, z.s.tmax)), quarter_points_[l],
-                                     false, g1});
+                                     middle(z.s.tmin, z.s.tmax), quarter_points_[l], false, g1});
             } else if (options_.clip_forms && e.defined && finite(g1) &&
                        !quarter_points_[l].is_empty() && quarter_points_[l].defined) {
                 // The form as a line in t narrows the segment its pieces cover.
-                const LinearForm lin{quarter_points_[l], g1,
-                                     midpoint(UpInterval(z.s.tmin, z.s.tmax)), true};
+                const LinearForm lin{quarter_points_[l], g1, middle(z.s.tmin, z.s.tmax), true};
                 double lo = z.s.tmin, hi = z.s.tmax;
                 clip_to_line(lin, lo, hi);
                 stats.clipped += lo != z.s.tmin || hi != z.s.tmax;
@@ -170,7 +168,7 @@ void Walker::try_second_order(const Ssa& list, Level& level) {
     for (const std::size_t ray : second_rays_) {
         const Level::Scanned& z = level.scanned[ray];
         const Ray& full = px(z.i, z.j).ray;
-        const double tc = midpoint(UpInterval(z.s.tmin, z.s.tmax));
+        const double tc = middle(z.s.tmin, z.s.tmax);
         second_boxes_.push_back(lane_box(full, z.s.tmin, z.s.tmax));
         second_boxes_.push_back(lane_box(full, tc, tc));
         second_dirs_.push_back(full.d);
@@ -186,7 +184,7 @@ void Walker::try_second_order(const Ssa& list, Level& level) {
         if (!e.defined || !g1.defined || !g2.defined || !finite(g1) || !finite(g2)) continue;
         const UpInterval &v = second_g_[2 * k + 1], &d = second_g1_[2 * k + 1];
         if (!v.defined || !finite(v) || !finite(d)) continue;
-        const double c = midpoint(UpInterval(z.s.tmin, z.s.tmax));
+        const double c = middle(z.s.tmin, z.s.tmax);
         const UpInterval s = UpInterval(z.s.tmin, z.s.tmax) - UpInterval(c);
         const UpInterval form = v + d * s + UpInterval(0.5) * g2 * square(s);
         double lo = form.lower(), hi = form.upper();

@@ -20,6 +20,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -1540,6 +1542,43 @@ void lane_list_walks_the_list(const expr::Tape& tape, int walks) {
                           std::bit_cast<std::uint64_t>(b.upper()));
                 RC_ASSERT(a.defined == b.defined);
             }
+        }
+    }
+}
+
+/// middle(a, b) is midpoint(UpInterval(a, b)) bit for bit, for finite a ≤ b of any magnitude
+/// (signed zeros, subnormals, the largest doubles), in the walk's upward mode and to nearest.
+RC_GTEST_PROP(Coherent, MiddleIsTheIntervalsMidpoint, ()) {
+    const auto [a, b] = *testing::gen_bounds();
+    RC_PRE(std::isfinite(a) && std::isfinite(b));
+    const auto same = [&] {
+        return std::bit_cast<std::uint64_t>(detail::coherent::middle(a, b)) ==
+               std::bit_cast<std::uint64_t>(midpoint(UpInterval(a, b)));
+    };
+    RC_ASSERT(same());
+    RoundingScope up;
+    RC_ASSERT(same());
+}
+
+TEST(Coherent, MiddleIsTheIntervalsMidpointAtOddSubnormals) {
+    // Where a half of a bound rounds (an odd subnormal: up to the bound itself upward, to 0 to
+    // nearest), the sum leaves [a, b] and is brought back, as midpoint() does.
+    const double d = std::numeric_limits<double>::denorm_min();
+    const double m = std::numeric_limits<double>::max();
+    for (const auto& [a, b] : std::vector<std::pair<double, double>>{{d, d},
+                                                                     {3 * d, 3 * d},
+                                                                     {-d, -d},
+                                                                     {-3 * d, d},
+                                                                     {d, 3 * d},
+                                                                     {-m, m},
+                                                                     {m, m},
+                                                                     {0.0, -0.0}}) {
+        for (const bool up : {false, true}) {
+            std::optional<RoundingScope> scope;
+            if (up) scope.emplace();
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(detail::coherent::middle(a, b)),
+                      std::bit_cast<std::uint64_t>(midpoint(UpInterval(a, b))))
+                << a << " " << b << (up ? " upward" : " nearest");
         }
     }
 }
