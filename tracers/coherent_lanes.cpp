@@ -6,11 +6,81 @@
 #include <cfenv>
 #include <cmath>
 
+#include "expr/batch_simd.h"
 #include "expr/eval.h"
+#include "expr/eval_batch.h"
 #include "expr/eval_interval_batch.h"
 #include "tracers/coherent_walker.h"
 
+#if CERTRAY_BATCH_X86
+#include <immintrin.h>
+#endif
+
 namespace certray::tracers::detail::coherent {
+namespace {
+
+#if CERTRAY_BATCH_X86
+/// Lanes k0 … k0 + 7 of the binary32 inputs `to` from boxes k0 … k0 + 7 (48 doubles: each box's
+/// lo[3], hi[3]), as load_lanes' loop sets them, bit for bit, in the walks' upward mode: the six
+/// bounds of the eight boxes transposed (three two-source permutes and two blends a bound), each
+/// rounded outward by one conversion of eight (a lower bound as −RU(−lo)), and an axis that is
+/// not lo ≤ hi given empty()'s NaN bounds. Returns per axis the bits of the boxes where it is.
+[[gnu::target("avx512f")]] void load8_avx512(const LaneBox* boxes, expr::IntervalLanesF* const* to,
+                                             int k0, std::uint64_t* ok) {
+    // Bound e (lo[0..2], hi[0..2]) of box j is double 6j + e of the block: from the first pair
+    // of registers where 6j + e < 16, the second where < 32, else the third.
+    struct Transpose {
+        alignas(64) long long index[3][6][8];
+        unsigned char in_first[6], in_second[6];
+    };
+    static constexpr Transpose t = [] {
+        Transpose r{};
+        for (int e = 0; e < 6; ++e) {
+            for (int j = 0; j < 8; ++j) {
+                const int x = 6 * j + e;
+                for (int q = 0; q < 3; ++q) r.index[q][e][j] = (x - 16 * q) & 15;
+                if (x < 16) {
+                    r.in_first[e] |= static_cast<unsigned char>(1u << j);
+                } else if (x < 32) {
+                    r.in_second[e] |= static_cast<unsigned char>(1u << j);
+                }
+            }
+        }
+        return r;
+    }();
+    static_assert(sizeof(LaneBox) == 6 * sizeof(double), "a box is its six bounds");
+    const double* p = boxes[k0].lo;
+    const __m512d z0 = _mm512_loadu_pd(p), z1 = _mm512_loadu_pd(p + 8),
+                  z2 = _mm512_loadu_pd(p + 16), z3 = _mm512_loadu_pd(p + 24),
+                  z4 = _mm512_loadu_pd(p + 32), z5 = _mm512_loadu_pd(p + 40);
+    __m512d bound[6];
+    for (int e = 0; e < 6; ++e) {
+        const __m512d a = _mm512_permutex2var_pd(z0, _mm512_load_si512(t.index[0][e]), z1);
+        const __m512d b = _mm512_permutex2var_pd(z2, _mm512_load_si512(t.index[1][e]), z3);
+        const __m512d c = _mm512_permutex2var_pd(z4, _mm512_load_si512(t.index[2][e]), z5);
+        bound[e] =
+            _mm512_mask_blend_pd(t.in_first[e], _mm512_mask_blend_pd(t.in_second[e], c, b), a);
+    }
+    // An axis that is not lo ≤ hi gets empty()'s bounds (NaN), converted as load_lanes' loop
+    // converts them (AVX-512F alone: the integer xor, the blend of doubles).
+    const __m512i sign = _mm512_set1_epi64(static_cast<long long>(0x8000000000000000ULL));
+    const __m256 sign_f = _mm256_castsi256_ps(_mm256_set1_epi32(static_cast<int>(0x80000000u)));
+    const UpInterval empty = UpInterval::empty();
+    const __m512d empty_lo = _mm512_set1_pd(empty.lower()),
+                  empty_hi = _mm512_set1_pd(empty.upper());
+    for (int c = 0; c < 3; ++c) {
+        const __mmask8 valid = _mm512_cmp_pd_mask(bound[c], bound[c + 3], _CMP_LE_OQ);
+        const __m512d lo = _mm512_mask_blend_pd(valid, empty_lo, bound[c]);
+        const __m512d hi = _mm512_mask_blend_pd(valid, empty_hi, bound[c + 3]);
+        const __m512d neg_lo = _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(lo), sign));
+        _mm256_storeu_ps(to[c]->lo + k0, _mm256_xor_ps(_mm512_cvtpd_ps(neg_lo), sign_f));
+        _mm256_storeu_ps(to[c]->hi + k0, _mm512_cvtpd_ps(hi));
+        ok[c] |= std::uint64_t{valid} << k0;
+    }
+}
+#endif
+
+}  // namespace
 
 UpInterval Walker::mean_value(const Ssa& list, double a, double b, const double* olo,
                               const double* ohi, const double* dlo, const double* dhi,
@@ -278,7 +348,15 @@ void Walker::load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m, const La
     }
     const UpInterval empty = UpInterval::empty();
     std::uint64_t def[3] = {0, 0, 0};
-    for (int k = 0; k < m; ++k) {
+    int k0 = 0;  // the boxes before it are loaded eight at a time
+#if CERTRAY_BATCH_X86
+    if constexpr (std::is_same_v<L, expr::IntervalLanesF>) {
+        if (m >= 8 && expr::batch_isa() == expr::BatchIsa::Avx512) {
+            for (; k0 + 8 <= m; k0 += 8) load8_avx512(boxes, to, k0, def);
+        }
+    }
+#endif
+    for (int k = k0; k < m; ++k) {
         for (int c = 0; c < 3; ++c) {
             const double lo = boxes[k].lo[c], hi = boxes[k].hi[c];
             const bool ok = lo <= hi;
