@@ -49,16 +49,6 @@ class Walker {
           tape_second_(options.second_order_forms ? second_order_list(tape_tangent_)
                                                   : std::nullopt),
           float_lanes_(options.float_lanes && mostly_arithmetic(tape.ssa())) {
-        // The lists walked in lanes again and again, with registers of their own: the tape's in
-        // double lanes (split_screen) and in the walks' lanes, its tangent and second-order
-        // lists in the walks' lanes.
-        d64_lists_.tape = make_lane_list<expr::IntervalLanes>(
-            tape.ssa(), static_cast<std::uint32_t>(tape.ssa().size()));
-        if (float_lanes_) {
-            make_lane_lists(f32_lists_);
-        } else {
-            make_lane_lists(d64_lists_);
-        }
         if (rays.projection() != Projection::List && options.render.aov != Aov::Depth &&
             options.depth_pixels > 0) {
             // A pixel's footprint: its angle times t (pinhole), or its side (ortho).
@@ -733,22 +723,19 @@ class Walker {
     LaneFile<expr::IntervalLanes> d64_;
     LaneFile<expr::IntervalLanesF> f32_;
     /// The LaneLists (make_lane_list) of the tape's list, its tangent list and its second-order
-    /// list, in the walks' lanes (float_lanes_); the tape's also in double lanes (split_screen).
+    /// list, made at their first walk in lanes of each kind (the tape's in double lanes too:
+    /// split_screen), where they have at most kLanesList instructions: a longer list's registers
+    /// outgrow the caches (particles.txt's 16,009: 25 MiB a walker), and its constants and
+    /// variables are few beside the rest.
     template <class L>
     struct LaneLists {
         std::optional<LaneList<L>> tape, tangent, second;
+        bool made[3] = {false, false, false};
     };
     LaneLists<expr::IntervalLanesF> f32_lists_;
     LaneLists<expr::IntervalLanes> d64_lists_;
-    template <class L>
-    void make_lane_lists(LaneLists<L>& lists) {
-        lists.tape = make_lane_list<L>(tape_.ssa(), static_cast<std::uint32_t>(tape_.ssa().size()));
-        if (tape_tangent_) {
-            lists.tangent = make_lane_list<L>(tape_tangent_->list, tape_tangent_->slots);
-        }
-        if (tape_second_) lists.second = make_lane_list<L>(tape_second_->list, tape_second_->slots);
-    }
-    /// The LaneList of `list` in lanes L, or null where it has none (a pruned or folded list).
+    /// The LaneList of `list` in lanes L, or null where it has none (a pruned or folded list, or
+    /// one longer than kLanesList).
     template <class L>
     LaneList<L>* lane_list(const Ssa& list) {
         LaneLists<L>* lists = nullptr;
@@ -758,14 +745,27 @@ class Walker {
             lists = &f32_lists_;
         }
         std::optional<LaneList<L>>* found = nullptr;
+        std::uint32_t slots = 0;
+        int which = 0;
         if (&list == &tape_.ssa()) {
             found = &lists->tape;
+            slots = static_cast<std::uint32_t>(list.size());
         } else if (tape_tangent_ && &list == &tape_tangent_->list) {
             found = &lists->tangent;
+            slots = tape_tangent_->slots;
+            which = 1;
         } else if (tape_second_ && &list == &tape_second_->list) {
             found = &lists->second;
+            slots = tape_second_->slots;
+            which = 2;
+        } else {
+            return nullptr;
         }
-        return found != nullptr && found->has_value() ? &**found : nullptr;
+        if (!lists->made[which]) {
+            lists->made[which] = true;
+            if (list.size() <= kLanesList) *found = make_lane_list<L>(list, slots);
+        }
+        return found->has_value() ? &**found : nullptr;
     }
 };
 
