@@ -24,7 +24,7 @@ namespace {
 /// lo[3], hi[3]), as load_lanes' loop sets them, bit for bit, in the walks' upward mode: the six
 /// bounds of the eight boxes transposed (three two-source permutes and two blends a bound), each
 /// rounded outward by one conversion of eight (a lower bound as −RU(−lo)), and an axis that is
-/// not lo ≤ hi given empty()'s NaN bounds. Returns per axis the bits of the boxes where it is.
+/// not lo ≤ hi given empty()'s NaN bounds. Sets bit k of ok[c] where box k's axis c is lo ≤ hi.
 [[gnu::target("avx512f")]] void load8_avx512(const LaneBox* boxes, expr::IntervalLanesF* const* to,
                                              int k0, std::uint64_t* ok) {
     // Bound e (lo[0..2], hi[0..2]) of box j is double 6j + e of the block: from the first pair

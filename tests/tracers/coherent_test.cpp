@@ -6,7 +6,9 @@
 // t_hi. On the gallery (pinhole and ortho) every pixel must agree. On random DAGs under random
 // cameras the two may decide differently only where one says Unknown (their bisection grids and
 // pruned tapes differ, and an undecided case is honest); a Hit against a Miss, or disjoint Hits,
-// is a wrong answer of one of them and fails.
+// is a wrong answer of one of them and fails. Parts of the walk are checked on their own too: a
+// lane list's walk against its whole list's, a segment's middle against the interval's midpoint,
+// and every instruction set's copy of the walks and loads against the others, bit for bit.
 #include "tracers/coherent.h"
 
 #include <gtest/gtest.h>
