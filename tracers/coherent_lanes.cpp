@@ -299,9 +299,9 @@ void Walker::ray_form_lanes_in(LaneFile<L>& file, const expr::TangentList& tl, R
             boxes[f * kLanes + 4].hi[k] = forms[f].c[k].upper();
         }
     }
-    LaneList<L>* ll = lane_list<L>(tl.list);
-    LaneFile<L>& lf = ll != nullptr ? ll->file : file;
-    load_lanes(lf, boxes, lanes, ll);
+    const LaneWalk<L> w = lane_walk(file, tl.list);
+    LaneFile<L>& lf = w.file;
+    load_lanes(lf, boxes, lanes, w.ll);
     if (lf.regs.size() < tl.slots) lf.regs.resize(tl.slots);
     for (int k = 0; k < 3; ++k) {
         L& seed = lf.regs[tl.seed[k]];
@@ -313,8 +313,7 @@ void Walker::ray_form_lanes_in(LaneFile<L>& file, const expr::TangentList& tl, R
             expr::set_lane(seed, f * kLanes + 4, UpInterval(0.0));
         }
     }
-    const Ssa& walked = ll != nullptr ? ll->core : tl.list;
-    expr::run_interval_batch(walked.data(), walked.data() + walked.size(), lf.in.data(),
+    expr::run_interval_batch(w.walked.data(), w.walked.data() + w.walked.size(), lf.in.data(),
                              lf.regs.data(), lanes);
     for (int f = 0; f < n; ++f) {
         RayForm& form = forms[f];
@@ -341,10 +340,11 @@ void Walker::load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m, const La
 #endif
     // Box by box (they lie in memory so), without a branch: a lane that is not lo ≤ hi gets
     // empty()'s bounds (NaN, which both conversions keep) and no decoration, as set_lane would.
-    // Axis c goes to file.in[c], or to the first slot of the LaneList's variable c.
+    // Axis c goes to file.in[c], or to the slot of the LaneList's variable c.
     L* to[3];
     for (int c = 0; c < 3; ++c) {
-        to[c] = ll != nullptr && !ll->var[c].empty() ? &file.regs[ll->var[c][0]] : &file.in[c];
+        to[c] = ll != nullptr && ll->var[c] != LaneList<L>::kNoVar ? &file.regs[ll->var[c]]
+                                                                   : &file.in[c];
     }
     const UpInterval empty = UpInterval::empty();
     std::uint64_t def[3] = {0, 0, 0};
@@ -365,16 +365,6 @@ void Walker::load_lanes(LaneFile<L>& file, const LaneBox* boxes, int m, const La
         }
     }
     for (int c = 0; c < 3; ++c) to[c]->defined[0] = def[c];
-    if (ll == nullptr) return;
-    // A list that reads a variable in several slots (as no tape's does): copies.
-    for (int c = 0; c < 3; ++c) {
-        for (std::size_t v = 1; v < ll->var[c].size(); ++v) {
-            L& x = file.regs[ll->var[c][v]];
-            std::copy_n(to[c]->lo, m, x.lo);
-            std::copy_n(to[c]->hi, m, x.hi);
-            x.defined[0] = def[c];
-        }
-    }
 }
 
 void Walker::eval_lanes(const Ssa& list, const LaneBox* boxes, std::size_t n,
@@ -392,18 +382,17 @@ const LaneFile<L>& Walker::eval_lanes_in(LaneFile<L>& file, const Ssa& list, con
                                          const Level* fold) {
     if (fold != nullptr && fold->folded.list.empty()) fold = nullptr;
     const Ssa& listed = fold != nullptr ? fold->folded.list : list;
-    LaneList<L>* ll = fold == nullptr ? lane_list<L>(list) : nullptr;
-    LaneFile<L>& lf = ll != nullptr ? ll->file : file;
-    const Ssa& walked = ll != nullptr ? ll->core : listed;
+    const LaneWalk<L> w = lane_walk(file, listed);
+    LaneFile<L>& lf = w.file;
     // The folded list's slots (and its fixed ones) are the list's: fewer than its length.
     if (lf.regs.size() < list.size()) lf.regs.resize(list.size());
     if (out.size() < n) out.resize(n);
     const std::uint32_t f = listed.back().out;
     for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
         const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
-        load_lanes(lf, boxes + k0, m, ll);
+        load_lanes(lf, boxes + k0, m, w.ll);
         if (fold != nullptr) load_fixed(lf, *fold, m);
-        expr::run_interval_batch(walked.data(), walked.data() + walked.size(), lf.in.data(),
+        expr::run_interval_batch(w.walked.data(), w.walked.data() + w.walked.size(), lf.in.data(),
                                  lf.regs.data(), m);
         for (int k = 0; k < m; ++k) out[k0 + k] = expr::lane(lf.regs[f], k);
     }
@@ -524,18 +513,16 @@ void Walker::eval_tangent_lanes_in(LaneFile<L>& file, const expr::TangentList& t
     // and adds g″ in its derivative slot, into `curvatures`.
     const std::vector<expr::Instr>& listed = second != nullptr ? second->list : tl.list;
     const std::uint32_t slots = second != nullptr ? second->slots : tl.slots;
-    // A LaneList where no fixed values are loaded (`fold` with a folded list walks its own).
-    LaneList<L>* ll =
-        fold == nullptr || fold->folded.fixed.empty() ? lane_list<L>(listed) : nullptr;
-    LaneFile<L>& lf = ll != nullptr ? ll->file : file;
-    const std::vector<expr::Instr>& walked = ll != nullptr ? ll->core : listed;
+    // (With a folded list at the level, tl is its tangent list: the shared registers.)
+    const LaneWalk<L> w = lane_walk(file, listed);
+    LaneFile<L>& lf = w.file;
     if (lf.regs.size() < slots) lf.regs.resize(slots);
     if (values.size() < n) values.resize(n);
     if (slopes.size() < n) slopes.resize(n);
     if (curvatures != nullptr && curvatures->size() < n) curvatures->resize(n);
     for (std::size_t k0 = 0; k0 < n; k0 += expr::kIntervalLanes) {
         const int m = static_cast<int>(std::min<std::size_t>(expr::kIntervalLanes, n - k0));
-        load_lanes(lf, boxes + k0, m, ll);
+        load_lanes(lf, boxes + k0, m, w.ll);
         if (fold != nullptr) load_fixed(lf, *fold, m);  // none where the level has no folded list
         // The seeds (both lists' with `second`): each lane's direction, a point (defined),
         // rounded outward.
@@ -551,7 +538,7 @@ void Walker::eval_tangent_lanes_in(LaneFile<L>& file, const expr::TangentList& t
                 seed.defined[0] |= lanes;
             }
         }
-        expr::run_interval_batch(walked.data(), walked.data() + walked.size(), lf.in.data(),
+        expr::run_interval_batch(w.walked.data(), w.walked.data() + w.walked.size(), lf.in.data(),
                                  lf.regs.data(), m);
         for (int k = 0; k < m; ++k) {
             values[k0 + k] = expr::lane(lf.regs[tl.value], k);

@@ -188,16 +188,19 @@ struct LaneFile {
 /// as much as its arithmetic ones (7 of Barth's sextic's 25 instructions).
 template <class L>
 struct LaneList {
-    Ssa core;                           ///< the list without its Const and Var instructions
-    std::vector<std::uint32_t> var[3];  ///< the slots its VarX, VarY and VarZ instructions write
-    LaneFile<L> file;                   ///< its registers (file.in is not read)
+    static constexpr std::uint32_t kNoVar = ~std::uint32_t{0};
+    Ssa core;  ///< the list without its Const and Var instructions
+    std::uint32_t var[3] = {kNoVar, kNoVar, kNoVar};  ///< the slots VarX, VarY, VarZ write
+    LaneFile<L> file;                                 ///< its registers (file.in is not read)
 };
 
 /// The LaneList of `list` (SSA, its slots below `slots`): each constant as the walks' Const step
 /// writes it (UpInterval(imm), rounded outward in binary32 lanes), in all kIntervalLanes lanes.
+/// None where a variable is written twice (no tape's list does: its Graph writes each once).
 template <class L>
-LaneList<L> make_lane_list(const Ssa& list, std::uint32_t slots) {
-    LaneList<L> ll;
+std::optional<LaneList<L>> make_lane_list(const Ssa& list, std::uint32_t slots) {
+    std::optional<LaneList<L>> made(std::in_place);  // value-initialized, built in place
+    LaneList<L>& ll = *made;
     ll.file.regs.resize(slots);
     for (const expr::Instr& in : list) {
         switch (in.op) {
@@ -207,15 +210,18 @@ LaneList<L> make_lane_list(const Ssa& list, std::uint32_t slots) {
                 break;
             case expr::Op::VarX:
             case expr::Op::VarY:
-            case expr::Op::VarZ:
-                ll.var[static_cast<int>(in.op) - static_cast<int>(expr::Op::VarX)].push_back(
-                    in.out);
+            case expr::Op::VarZ: {
+                std::uint32_t& v =
+                    ll.var[static_cast<int>(in.op) - static_cast<int>(expr::Op::VarX)];
+                if (v != LaneList<L>::kNoVar) return std::nullopt;
+                v = in.out;
                 break;
+            }
             default:
                 ll.core.push_back(in);
         }
     }
-    return ll;
+    return made;
 }
 
 /// Whether the ops that the binary32 walk takes in double (expr::binary32_kernel: tan, floor

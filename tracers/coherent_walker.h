@@ -767,6 +767,20 @@ class Walker {
         }
         return found->has_value() ? &**found : nullptr;
     }
+    /// Where a walk of `list` runs: the registers of its LaneList and the rest of the list, or
+    /// `shared` and the whole list (`ll` null). A folded list has none (its fixed inputs are
+    /// loaded into the registers of the walk), nor does any list but the three above.
+    template <class L>
+    struct LaneWalk {
+        LaneFile<L>& file;
+        const Ssa& walked;
+        const LaneList<L>* ll;
+    };
+    template <class L>
+    LaneWalk<L> lane_walk(LaneFile<L>& shared, const Ssa& list) {
+        if (LaneList<L>* ll = lane_list<L>(list)) return {ll->file, ll->core, ll};
+        return {shared, list, nullptr};
+    }
 };
 
 }  // namespace certray::tracers::detail::coherent

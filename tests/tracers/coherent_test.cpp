@@ -1307,7 +1307,9 @@ TEST(Coherent, EveryInstructionSetGivesTheSameAnswers) {
         }
     }
     // Not vacuous where this CPU has more than the baseline copy.
-    if (isas.size() > 1) EXPECT_GT(compared, 10000u);
+    if (isas.size() > 1) {
+        EXPECT_GT(compared, 10000u);
+    }
 }
 
 /// Where the gradient at a hit is 0, its normal is normalize's answer, (+0, +0, +0), turned to
@@ -1553,7 +1555,10 @@ template <class L>
 void lane_list_walks_the_list(const expr::Tape& tape, int walks) {
     const std::vector<expr::Instr>& list = tape.ssa();
     const auto slots = static_cast<std::uint32_t>(list.size());
-    detail::coherent::LaneList<L> ll = detail::coherent::make_lane_list<L>(list, slots);
+    std::optional<detail::coherent::LaneList<L>> made =
+        detail::coherent::make_lane_list<L>(list, slots);
+    RC_ASSERT(made.has_value());  // a Graph's list writes each variable once
+    detail::coherent::LaneList<L>& ll = *made;
     std::size_t consts = 0, vars = 0;
     for (const expr::Instr& in : list) {
         consts += in.op == expr::Op::Const;
@@ -1569,7 +1574,7 @@ void lane_list_walks_the_list(const expr::Tape& tape, int walks) {
                 const auto [lo, hi] = *testing::gen_bounds();
                 expr::set_lane(in[c], k, UpInterval(lo, hi));
             }
-            for (const std::uint32_t v : ll.var[c]) ll.file.regs[v] = in[c];
+            if (ll.var[c] != detail::coherent::LaneList<L>::kNoVar) ll.file.regs[ll.var[c]] = in[c];
         }
         RoundingScope up;
         expr::run_interval_batch(list.data(), list.data() + list.size(), in.data(), regs.data(), n);
@@ -1624,6 +1629,31 @@ TEST(Coherent, MiddleIsTheIntervalsMidpointAtOddSubnormals) {
                 << a << " " << b << (up ? " upward" : " nearest");
         }
     }
+}
+
+TEST(Coherent, ALaneListWritesEachVariableOnce) {
+    // x read from two slots: no LaneList (the walks' shared registers serve it); once: one.
+    using LL = detail::coherent::LaneList<expr::IntervalLanesF>;
+    const std::vector<expr::Instr> twice = {{expr::Op::VarX, 0, 0, 0, 0.0},
+                                            {expr::Op::VarX, 1, 0, 0, 0.0},
+                                            {expr::Op::Add, 2, 0, 1, 0.0}};
+    EXPECT_FALSE(detail::coherent::make_lane_list<expr::IntervalLanesF>(twice, 3).has_value());
+    const std::vector<expr::Instr> once = {{expr::Op::VarY, 0, 0, 0, 0.0},
+                                           {expr::Op::Const, 1, 0, 0, 2.0},
+                                           {expr::Op::Mul, 2, 0, 1, 0.0}};
+    const std::optional<LL> ll = detail::coherent::make_lane_list<expr::IntervalLanesF>(once, 3);
+    ASSERT_TRUE(ll.has_value());
+    EXPECT_EQ(ll->var[0], LL::kNoVar);
+    EXPECT_EQ(ll->var[1], 0u);
+    EXPECT_EQ(ll->var[2], LL::kNoVar);
+    ASSERT_EQ(ll->core.size(), 1u);
+    EXPECT_EQ(ll->core[0].op, expr::Op::Mul);
+    // The constant 2 in every lane, as the Const step writes it.
+    for (int k = 0; k < expr::kIntervalLanes; ++k) {
+        EXPECT_EQ(ll->file.regs[1].lo[k], 2.0f);
+        EXPECT_EQ(ll->file.regs[1].hi[k], 2.0f);
+    }
+    EXPECT_EQ(ll->file.regs[1].defined[0], ~std::uint64_t{0});
 }
 
 RC_GTEST_PROP(Coherent, LaneListsWalkTheirListsBits, ()) {
