@@ -345,7 +345,9 @@ TEST(Tangent, SharedInstructionsDropRepeatsAndWhatNothingReads) {
         EXPECT_NE(in.out, 5u);
         EXPECT_NE(in.out, 9u);
         EXPECT_NE(in.out, 10u);
-        if (in.out == 6u) EXPECT_EQ(in.b, 4u);  // read the first 2
+        if (in.out == 6u) {
+            EXPECT_EQ(in.b, 4u);  // read the first 2
+        }
     }
     // The kept slots, bit for bit, over a box.
     const std::array<UpInterval, 3> box = {UpInterval(-1.5, 0.25), UpInterval(0.1, 3.0),
